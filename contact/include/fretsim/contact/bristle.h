@@ -1,0 +1,52 @@
+#pragma once
+#include <fretsim/contact/surface_grid.h>
+
+namespace fretsim::contact
+{
+  /// Tangential traction by the bristle (elastic-foundation, LuGre-type) model
+  /// of the paper, eq. 4 (DESIGN.md §2.3): at every cell
+  ///     dtau/dt = k v - k |v| tau / (mu p),
+  /// advanced with implicit Euler over a slip increment ds = v dt:
+  ///     tau^{n+1} = (tau^n + k ds) / (1 + k |ds| / (mu p)).
+  /// |tau^{n+1}| <= mu p holds for any step size and stiffness; where mu p
+  /// drops below |tau| the traction is clamped to the Coulomb limit.
+  class BristleTraction
+  {
+  public:
+    /// stiffness: tangential foundation stiffness k [Pa/m].
+    /// slip_tolerance: a cell counts as slipping where |tau| >= (1 - eps) mu p.
+    BristleTraction(const SurfaceGrid &grid, double stiffness, double slip_tolerance = 1e-3);
+
+    /// Mindlin calibration (DESIGN.md §2.3): k = 8 G* / (pi a) makes the initial
+    /// tangential stiffness k pi a^2 equal Mindlin's 8 G* a [Pa/m].
+    static double mindlin_stiffness(double tangential_modulus, double contact_radius);
+
+    /// One implicit Euler step with the same relative slip increment (dx, dy)
+    /// [m] at every cell (rigid sliding of the two bodies).
+    void advance(const Field &pressure, double friction_coefficient, double slip_x, double slip_y);
+    /// One step with a slip increment per cell [m] (conformal contacts).
+    void advance(const Field &pressure, double friction_coefficient, const Field &slip_x,
+                 const Field &slip_y);
+
+    void reset();
+
+    const Field &traction_x() const { return tau_x; } ///< [Pa], on the lower body
+    const Field &traction_y() const { return tau_y; } ///< [Pa]
+    double       stiffness() const { return k; }
+
+    /// |tau| / (mu p) per cell, 0 outside the contact: the paper's "effective
+    /// friction" map normalised by mu.
+    Field effective_friction(const Field &pressure, double friction_coefficient) const;
+    /// Fraction of the loaded area that slips.
+    double slip_area_fraction(const Field &pressure, double friction_coefficient) const;
+
+  private:
+    void advance_cell(std::size_t c, double mu_p, double slip_x, double slip_y);
+
+    SurfaceGrid grid;
+    double      k;
+    double      slip_tolerance;
+    Field       tau_x;
+    Field       tau_y;
+  };
+} // namespace fretsim::contact

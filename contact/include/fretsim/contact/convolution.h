@@ -1,0 +1,46 @@
+#pragma once
+#include <fretsim/contact/surface_grid.h>
+
+#include <functional>
+#include <memory>
+
+namespace fretsim::contact
+{
+  /// Influence coefficient K(di, dj): response at a cell centre to a unit
+  /// uniform load on a cell offset by (di, dj) cells (di = i_field - i_load).
+  using InfluenceFunction = std::function<double(int di, int dj)>;
+
+  /// Linear (non-periodic) discrete convolution w_i = sum_j K(i - j) u_j on a
+  /// SurfaceGrid, evaluated with DC-FFT (Liu, Wang & Liu, Wear 243, 2000):
+  /// the kernel is zero-padded to 2nx × 2ny in wrap-around order, transformed
+  /// once, and the FFTW plans are reused on every call. Exact to round-off
+  /// against direct summation.
+  class SurfaceConvolution
+  {
+  public:
+    SurfaceConvolution(const SurfaceGrid &grid, const InfluenceFunction &kernel);
+    ~SurfaceConvolution();
+    SurfaceConvolution(SurfaceConvolution &&) noexcept;
+    SurfaceConvolution &operator=(SurfaceConvolution &&) noexcept;
+
+    /// result = K * load (DC-FFT).
+    void apply(const Field &load, Field &result) const;
+    /// result = K * load by O(N^2) direct summation: the reference.
+    void apply_direct(const Field &load, Field &result) const;
+
+    const SurfaceGrid &grid() const;
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> impl;
+  };
+
+  /// Influence coefficients for uniform rectangular cells on an elastic
+  /// half-space (Love 1929; shared/REFERENCES.md §4.1), per unit load.
+  namespace influence
+  {
+    /// Combined normal displacement of both bodies from unit pressure on a
+    /// cell of size hx × hy, at offset (x, y) from its centre: [F1]/(pi E*).
+    double normal_displacement(double x, double y, double hx, double hy, double contact_modulus);
+  } // namespace influence
+} // namespace fretsim::contact

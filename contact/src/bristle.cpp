@@ -1,1 +1,109 @@
-// placeholder
+#include <fretsim/contact/bristle.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace fretsim::contact
+{
+  BristleTraction::BristleTraction(const SurfaceGrid &grid, double stiffness, double slip_tolerance)
+    : grid(grid)
+    , k(stiffness)
+    , slip_tolerance(slip_tolerance)
+    , tau_x(grid.zeros())
+    , tau_y(grid.zeros())
+  {
+    if (!(stiffness > 0.0) || !std::isfinite(stiffness))
+      throw std::invalid_argument("bristle stiffness must be positive and finite");
+  }
+
+  double BristleTraction::mindlin_stiffness(double tangential_modulus, double contact_radius)
+  {
+    return 8.0 * tangential_modulus / (M_PI * contact_radius);
+  }
+
+  void BristleTraction::reset()
+  {
+    std::fill(tau_x.begin(), tau_x.end(), 0.0);
+    std::fill(tau_y.begin(), tau_y.end(), 0.0);
+  }
+
+  void BristleTraction::advance_cell(std::size_t c, double mu_p, double slip_x, double slip_y)
+  {
+    if (!(mu_p > 0.0))
+      {
+        // No pressure or no friction: no traction can be transmitted.
+        tau_x[c] = 0.0;
+        tau_y[c] = 0.0;
+        return;
+      }
+    // Implicit Euler of dtau = k ds - k |ds| tau/(mu p). Written with the slip
+    // increment rather than v dt so that a prescribed displacement history is
+    // followed exactly. The division form keeps |tau| <= mu p for any k |ds|:
+    // |tau + k ds| <= mu p + k|ds| = mu p (1 + k|ds|/(mu p)).
+    const double slip      = std::hypot(slip_x, slip_y);
+    const double k_slip    = k * slip;
+    const double denominator = 1.0 + k_slip / mu_p;
+    double       new_x     = (tau_x[c] + k * slip_x) / denominator;
+    double       new_y     = (tau_y[c] + k * slip_y) / denominator;
+    if (!std::isfinite(denominator))
+      {
+        // k |ds| overflowed: the bristle is fully slipping along ds.
+        new_x = mu_p * slip_x / slip;
+        new_y = mu_p * slip_y / slip;
+      }
+    // Coulomb clamp: when the pressure dropped since the last step, the stored
+    // traction may exceed the new limit.
+    const double magnitude = std::hypot(new_x, new_y);
+    if (magnitude > mu_p)
+      {
+        new_x *= mu_p / magnitude;
+        new_y *= mu_p / magnitude;
+      }
+    tau_x[c] = new_x;
+    tau_y[c] = new_y;
+  }
+
+  void BristleTraction::advance(const Field &pressure, double friction_coefficient, double slip_x,
+                                double slip_y)
+  {
+    for (std::size_t c = 0; c < grid.size(); ++c)
+      advance_cell(c, friction_coefficient * pressure[c], slip_x, slip_y);
+  }
+
+  void BristleTraction::advance(const Field &pressure, double friction_coefficient,
+                                const Field &slip_x, const Field &slip_y)
+  {
+    for (std::size_t c = 0; c < grid.size(); ++c)
+      advance_cell(c, friction_coefficient * pressure[c], slip_x[c], slip_y[c]);
+  }
+
+  Field BristleTraction::effective_friction(const Field &pressure, double friction_coefficient) const
+  {
+    Field ratio = grid.zeros();
+    for (std::size_t c = 0; c < grid.size(); ++c)
+      {
+        const double mu_p = friction_coefficient * pressure[c];
+        if (mu_p > 0.0)
+          ratio[c] = std::min(1.0, std::hypot(tau_x[c], tau_y[c]) / mu_p);
+        else if (pressure[c] > 0.0)
+          ratio[c] = 1.0; // frictionless contact: every loaded point slips
+      }
+    return ratio;
+  }
+
+  double BristleTraction::slip_area_fraction(const Field &pressure, double friction_coefficient) const
+  {
+    const Field ratio     = effective_friction(pressure, friction_coefficient);
+    std::size_t loaded    = 0;
+    std::size_t slipping  = 0;
+    for (std::size_t c = 0; c < grid.size(); ++c)
+      if (pressure[c] > 0.0)
+        {
+          ++loaded;
+          if (ratio[c] >= 1.0 - slip_tolerance)
+            ++slipping;
+        }
+    return loaded == 0 ? 0.0 : static_cast<double>(slipping) / static_cast<double>(loaded);
+  }
+} // namespace fretsim::contact

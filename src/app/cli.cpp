@@ -1,1 +1,110 @@
-// placeholder
+#include "app/cli.h"
+
+#include "app/build_info.h"
+#include "app/parameters.h"
+#include "app/run_control.h"
+#include "scenes/scene.h"
+
+#include <fretsim/fem/library_info.h>
+#include <fretsim/reduction/library_info.h>
+
+#include <CLI/CLI.hpp>
+
+#include <filesystem>
+#include <iostream>
+
+namespace fretsim::app
+{
+  namespace
+  {
+    constexpr int exit_ok           = 0;
+    constexpr int exit_failure      = 1;
+    constexpr int exit_bad_input    = 2;
+
+    std::string version_text()
+    {
+      return std::string("fretsim ") + FRETSIM_VERSION + " (" + fem::library_versions() + ", " +
+             reduction::library_versions() + ")";
+    }
+
+    int run_scene(const std::string &config_file, std::string output_directory, bool plots, bool quiet)
+    {
+      // Everything is read and checked before anything is written.
+      const auto scene = scenes::load_scene(config_file);
+      if (output_directory.empty())
+        output_directory = (std::filesystem::path("results") / std::filesystem::path(config_file).stem()).string();
+      install_interrupt_handlers();
+      const scenes::RunReport report = scene->run({output_directory, plots, !quiet});
+      std::cout << "results:  " << std::filesystem::absolute(report.results_file).string() << "\n"
+                << "summary:  " << std::filesystem::absolute(report.summary_file).string() << "\n"
+                << "paraview: " << std::filesystem::absolute(std::filesystem::path(output_directory) / "results.xdmf").string() << "\n";
+      for (const auto &figure : report.figures)
+        std::cout << "figure:   " << std::filesystem::absolute(figure).string() << "\n";
+      if (!report.completed)
+        {
+          std::cerr << "fretsim: interrupted; results hold the steps done so far\n";
+          return 128 + interrupt_signal();
+        }
+      return exit_ok;
+    }
+
+    int print_parameters(const std::string &scene)
+    {
+      const auto names = scene.empty() ? scenes::scene_names() : std::vector<std::string>{scene};
+      for (const auto &name : names)
+        {
+          bool known = false;
+          for (const auto &candidate : scenes::scene_names())
+            known = known || candidate == name;
+          if (!known)
+            throw InputError("(command line)", "SCENE", "unknown scene '" + name + "'");
+          scenes::declare_parameters(name).print_reference(std::cout);
+        }
+      return exit_ok;
+    }
+  } // namespace
+
+  int run_command_line(int argc, char **argv)
+  {
+    CLI::App app{"FretSim: fretting-fatigue simulation of machine contacts (SI units throughout)", "fretsim"};
+    app.set_version_flag("--version", version_text());
+    app.require_subcommand(1);
+
+    std::string config_file, output_directory, scene;
+    bool        no_plots = false, quiet = false;
+    auto *run = app.add_subcommand("run", "Run the scene described by a configuration file");
+    run->add_option("CONFIG", config_file, "Scene file (.prm or .json)")->required();
+    run->add_option("-o,--output", output_directory, "Output directory (default: results/<config name>)");
+    run->add_flag("--no-plots", no_plots, "Do not write PNG figures");
+    run->add_flag("-q,--quiet", quiet, "No progress line");
+    auto *params = app.add_subcommand("params", "Print every parameter of a scene: default, allowed values, unit");
+    params->add_option("SCENE", scene, "Scene name (default: all scenes)");
+
+    try
+      {
+        app.parse(argc, argv);
+      }
+    catch (const CLI::ParseError &error)
+      {
+        const int code = app.exit(error);
+        return code == 0 ? exit_ok : exit_bad_input;
+      }
+
+    try
+      {
+        if (*run)
+          return run_scene(config_file, output_directory, !no_plots, quiet);
+        return print_parameters(scene);
+      }
+    catch (const InputError &error)
+      {
+        std::cerr << "fretsim: error: " << error.what() << "\n";
+        return exit_bad_input;
+      }
+    catch (const std::exception &error)
+      {
+        std::cerr << "fretsim: internal error: " << error.what() << "\n";
+        return exit_failure;
+      }
+  }
+} // namespace fretsim::app

@@ -1,1 +1,25 @@
-// placeholder
+#include "scenes/scene.h"
+
+#include "scenes/concentrated_scene.h"
+
+#include <stdexcept>
+
+namespace fretsim::scenes
+{
+  std::vector<std::string> scene_names() { return {"concentrated"}; }
+
+  app::SceneParameters declare_parameters(const std::string &scene)
+  {
+    if (scene == "concentrated")
+      return app::SceneParameters(scene, ConcentratedContactScene::parameter_specs());
+    throw std::invalid_argument("unknown scene '" + scene + "'");
+  }
+
+  std::unique_ptr<Scene> load_scene(const std::string &config_file)
+  {
+    const std::string scene      = app::SceneParameters::scene_of_file(config_file, scene_names());
+    app::SceneParameters parameters = declare_parameters(scene);
+    parameters.parse_file(config_file);
+    return std::make_unique<ConcentratedContactScene>(std::move(parameters));
+  }
+} // namespace fretsim::scenes

@@ -88,7 +88,7 @@ namespace fretsim::scenes
     specs.push_back(Spec::positive("Loading/Period", "1",
                                    "Period of the sliding [s]. The contact is quasi-static, so the period only "
                                    "scales time."));
-    specs.push_back(Spec::integer_range("Loading/Cycles", "5",
+    specs.push_back(Spec::integer_range("Loading/Cycles", "8",
                                         "Number of sliding cycles. The bristle loop is steady after a few; the last "
                                         "cycle's change is reported as loop_change_last_cycle [-].", 1, 100000));
     specs.push_back(Spec::integer_range("Loading/Steps per cycle", "200",

@@ -41,6 +41,8 @@ namespace fretsim::output
                        const std::vector<std::size_t> &dims, const std::vector<double> &values);
     /// A string attribute on the root group (e.g. "status": "complete").
     void set_root_attribute(const std::string &name, const std::string &value);
+    /// A floating-point attribute on the root group (e.g. "contact_radius_m").
+    void set_root_attribute(const std::string &name, double value);
 
     /// Forces everything written so far to disk.
     void flush();
@@ -52,6 +54,20 @@ namespace fretsim::output
     /// mesh and one temporal collection over the snapshots, each [ny, nx] field
     /// (and each depth layer of 4-D fields) as a cell attribute, for ParaView.
     void write_xdmf(const std::string &xdmf_path) const;
+    /// The same for an existing results file that is not open for writing
+    /// (e.g. one left by a run that stopped): what the file holds is described.
+    static void write_xdmf(const std::string &results_path, const std::string &xdmf_path);
+
+    /// Readers for tests and tools (the file must not be open for writing in
+    /// another process). read_dataset returns the values row-major as doubles
+    /// and, if `dims` is given, the shape.
+    static std::vector<double> read_dataset(const std::string &path, const std::string &dataset,
+                                            std::vector<std::size_t> *dims = nullptr);
+    /// A string attribute of `object` ("/" for the root), fixed or variable length.
+    static std::string read_string_attribute(const std::string &path, const std::string &object,
+                                             const std::string &name);
+    static double      read_double_attribute(const std::string &path, const std::string &object,
+                                             const std::string &name);
 
   private:
     struct Impl;

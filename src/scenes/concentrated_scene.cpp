@@ -245,7 +245,7 @@ namespace fretsim::scenes
     for (int j = 0; j < grid.ny; ++j)
       y[j] = grid.y(j);
     results.write_grid(x, y, {0.0});
-    results.set_root_attribute("contact_radius_m", std::to_string(contact_radius));
+    results.set_root_attribute("contact_radius_m", contact_radius);
     for (const auto &[name, unit] : std::vector<std::pair<std::string, std::string>>{
            {"time", "s"}, {"cycle", "1"}, {"displacement_x", "m"}, {"displacement_y", "m"},
            {"tangential_force_x", "N"}, {"tangential_force_y", "N"}, {"normal_force", "N"},

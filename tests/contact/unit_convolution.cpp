@@ -1,0 +1,263 @@
+// Love's rectangle influence coefficient and the DC-FFT convolution against
+// shared/REFERENCES.md §4.1 and §6.2-6.3.
+#include <fretsim/contact/convolution.h>
+#include <fretsim/contact/hertz.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <thread>
+#include <vector>
+
+using namespace fretsim::contact;
+
+namespace
+{
+  double max_abs(const Field &field)
+  {
+    double m = 0.0;
+    for (const double v : field)
+      m = std::max(m, std::abs(v));
+    return m;
+  }
+
+  double max_abs_difference(const Field &a, const Field &b)
+  {
+    double m = 0.0;
+    for (std::size_t c = 0; c < a.size(); ++c)
+      m = std::max(m, std::abs(a[c] - b[c]));
+    return m;
+  }
+
+  /// Smooth, nowhere symmetric kernel: any mix-up of di/dj, of their signs or
+  /// of the wrap-around order changes the result at O(1).
+  double asymmetric_kernel(int di, int dj)
+  {
+    return 1.0 / (1.0 + (di - 0.3) * (di - 0.3) + 2.0 * (dj + 0.7) * (dj + 0.7)) + 0.01 * di - 0.02 * dj +
+           0.001 * di * dj;
+  }
+
+  Field random_field(const SurfaceGrid &grid, unsigned seed)
+  {
+    std::mt19937                           generator(seed);
+    std::uniform_real_distribution<double> uniform(-1.0, 2.0);
+    Field                                  field(grid.size());
+    for (double &v : field)
+      v = uniform(generator);
+    return field;
+  }
+
+  // One body with G = 1, nu = 0.3: u_z = (1 - nu)/(2 pi G) [F1] (REFERENCES.md
+  // §4.1), i.e. 1/(pi E*) with E* = 2G/(1 - nu).
+  const double check_modulus = 2.0 * 1.0 / (1.0 - 0.3);
+} // namespace
+
+TEST(SurfaceGrid, CentredGridAndIntegral)
+{
+  const auto grid = SurfaceGrid::centred(4, 2, 2.0, 0.5);
+  EXPECT_DOUBLE_EQ(grid.hx, 1.0);
+  EXPECT_DOUBLE_EQ(grid.hy, 0.5);
+  EXPECT_DOUBLE_EQ(grid.x(0), -1.5);
+  EXPECT_DOUBLE_EQ(grid.x(3), 1.5);
+  EXPECT_DOUBLE_EQ(grid.y(0), -0.25);
+  EXPECT_DOUBLE_EQ(grid.y(1), 0.25);
+  EXPECT_EQ(grid.index(3, 1), 7u);
+  Field field(grid.size());
+  for (std::size_t c = 0; c < field.size(); ++c)
+    field[c] = static_cast<double>(c);
+  EXPECT_DOUBLE_EQ(integrate(grid, field), 28.0 * 0.5); // sum 0..7 times cell area
+  EXPECT_THROW(integrate(grid, Field(3)), std::invalid_argument);
+  EXPECT_THROW(SurfaceGrid::centred(0, 2, 1.0, 1.0), std::invalid_argument);
+  EXPECT_THROW(SurfaceGrid::centred(2, 2, 1.0, -1.0), std::invalid_argument);
+}
+
+TEST(Influence, ReferenceCheckNumbers)
+{
+  // REFERENCES.md §4.1 table, u_z(p) column, patch [-0.5,0.5] x [-0.3,0.3],
+  // quoted to 10 digits (verified against dblquad to 1e-10).
+  struct Row
+  {
+    double x, y, u_z;
+  };
+  for (const Row row : {Row{2.0, 1.0, 0.0302130593}, Row{0.7, -0.2, 0.1051774348}, Row{3.5, 2.2, 0.0162130350}})
+    EXPECT_NEAR(influence::normal_displacement(row.x, row.y, 1.0, 0.6, check_modulus), row.u_z, 1e-10)
+      << "(" << row.x << ", " << row.y << ")";
+}
+
+TEST(Influence, SelfInfluenceOfSquareCell)
+{
+  // [F1] = 4 h ln(1 + sqrt 2) at the centre of a square cell (REFERENCES.md
+  // §4.1), to round-off, at any scale.
+  for (const double h : {1e-6, 1.0, 1e3})
+    {
+      const double corner_sum = influence::normal_displacement(0.0, 0.0, h, h, check_modulus) * M_PI * check_modulus;
+      EXPECT_NEAR(corner_sum / (4.0 * h * std::log(1.0 + std::sqrt(2.0))), 1.0, 1e-14) << "h = " << h;
+    }
+}
+
+TEST(Influence, SymmetryEdgesAndFarField)
+{
+  const double hx = 2e-5, hy = 3e-5, modulus = 1e11;
+  auto         K  = [&](double x, double y) { return influence::normal_displacement(x, y, hx, hy, modulus); };
+  // Mirror symmetry of the Boussinesq kernel and the transpose symmetry of
+  // the rectangle: exact up to round-off.
+  for (const double x : {0.0, 0.3e-5, 1e-5, 7e-5})
+    for (const double y : {0.0, 0.2e-5, 1.5e-5, 9e-5})
+      {
+        const double k = K(x, y);
+        EXPECT_TRUE(std::isfinite(k) && k > 0.0);
+        EXPECT_NEAR(K(-x, y), k, 1e-14 * k);
+        EXPECT_NEAR(K(x, -y), k, 1e-14 * k);
+        EXPECT_NEAR(influence::normal_displacement(y, x, hy, hx, modulus), k, 1e-14 * k);
+      }
+  // On the cell edges and corners a corner term has X = 0 or Y = 0, where
+  // X ln(Y + rho) -> 0: the coefficient is finite and continuous there
+  // (first order in the 1e-12 relative offset).
+  for (const auto &point : {std::pair{0.5 * hx, 0.0}, std::pair{0.5 * hx, 0.5 * hy}, std::pair{0.0, -0.5 * hy},
+                            std::pair{1.5 * hx, -0.5 * hy}})
+    {
+      const double on = K(point.first, point.second);
+      EXPECT_TRUE(std::isfinite(on));
+      EXPECT_NEAR(K(point.first * (1.0 + 1e-12), point.second * (1.0 + 1e-12)), on, 1e-9 * on);
+    }
+  // Far field: a point load hx*hy, u_z = hx hy/(pi E* r), up to the
+  // quadrupole correction of relative order (h/r)^2 / 24 < 1e-5 at r = 100 h.
+  const double r = 100.0 * hy;
+  EXPECT_NEAR(K(0.6 * r, 0.8 * r) * M_PI * modulus * r / (hx * hy), 1.0, 1e-5);
+}
+
+TEST(SurfaceConvolution, DirectSumIsTheDefinition)
+{
+  // apply_direct is the reference for everything else: check it against the
+  // definition w_i = sum_j K(i - j) u_j written out naively (round-off).
+  const auto grid = SurfaceGrid::centred(9, 6, 1.0, 1.0);
+  const SurfaceConvolution convolution(grid, asymmetric_kernel);
+  const Field load = random_field(grid, 1);
+  Field       direct;
+  convolution.apply_direct(load, direct);
+  for (int j = 0; j < grid.ny; ++j)
+    for (int i = 0; i < grid.nx; ++i)
+      {
+        double sum = 0.0;
+        for (int jj = 0; jj < grid.ny; ++jj)
+          for (int ii = 0; ii < grid.nx; ++ii)
+            sum += asymmetric_kernel(i - ii, j - jj) * load[grid.index(ii, jj)];
+        EXPECT_NEAR(direct[grid.index(i, j)], sum, 1e-14 * max_abs(direct));
+      }
+}
+
+TEST(SurfaceConvolution, FftEqualsDirectOnNonSquareGrid)
+{
+  // DC-FFT is linear convolution exactly (Liu, Wang & Liu 2000; REFERENCES.md
+  // §6.2-6.3 found 4e-16): 1e-12 relative leaves room for FFT round-off.
+  for (const auto &size : {std::pair{37, 20}, std::pair{20, 37}, std::pair{1, 13}, std::pair{16, 16}})
+    {
+      const auto grid = SurfaceGrid::centred(size.first, size.second, 1.0, 1.0);
+      const SurfaceConvolution convolution(grid, asymmetric_kernel);
+      const Field load = random_field(grid, 7);
+      Field       fft, direct;
+      convolution.apply(load, fft);
+      convolution.apply_direct(load, direct);
+      EXPECT_LT(max_abs_difference(fft, direct) / max_abs(direct), 1e-12) << size.first << " x " << size.second;
+    }
+}
+
+TEST(SurfaceConvolution, UnitLoadInACornerReproducesTheKernel)
+{
+  // A unit load at one corner cell must give K(i - i0, j - j0) over the whole
+  // grid, including the extreme offsets +-(n - 1): a periodic (cyclic)
+  // convolution or a wrong wrap-around index would mix the far side in.
+  const int  nx = 11, ny = 7;
+  const auto grid = SurfaceGrid::centred(nx, ny, 1.0, 1.0);
+  const SurfaceConvolution convolution(grid, asymmetric_kernel);
+  for (const auto &corner : {std::pair{0, 0}, std::pair{nx - 1, ny - 1}, std::pair{nx - 1, 0}})
+    {
+      Field load = grid.zeros(), result;
+      load[grid.index(corner.first, corner.second)] = 1.0;
+      convolution.apply(load, result);
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i)
+          EXPECT_NEAR(result[grid.index(i, j)], asymmetric_kernel(i - corner.first, j - corner.second), 1e-14)
+            << "cell (" << i << ", " << j << ")";
+    }
+}
+
+TEST(SurfaceConvolution, PlansAreReusableMovableAndThreadSafe)
+{
+  const auto grid = SurfaceGrid::centred(24, 17, 1.0, 1.0);
+  SurfaceConvolution original(grid, asymmetric_kernel);
+  const Field load = random_field(grid, 3), other = random_field(grid, 4);
+  Field       first, second, between;
+  original.apply(load, first);
+  original.apply(other, between);
+  original.apply(load, second);
+  EXPECT_EQ(first, second); // same plan, same arrays: bitwise identical
+
+  SurfaceConvolution moved(std::move(original));
+  Field              after_move;
+  moved.apply(load, after_move);
+  EXPECT_EQ(after_move, first);
+  EXPECT_EQ(moved.grid().nx, 24);
+
+  // Concurrent calls share one plan; a caller that finds the work arrays busy
+  // uses its own. Every result must equal the serial one bitwise.
+  const int                n_threads = 4, calls_per_thread = 8;
+  std::vector<Field>       results(n_threads * calls_per_thread);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < n_threads; ++t)
+    threads.emplace_back([&, t] {
+      for (int call = 0; call < calls_per_thread; ++call)
+        moved.apply(load, results[t * calls_per_thread + call]);
+    });
+  for (auto &thread : threads)
+    thread.join();
+  for (const auto &result : results)
+    EXPECT_EQ(result, first);
+  EXPECT_THROW(moved.apply(Field(3), results[0]), std::invalid_argument);
+}
+
+TEST(SurfaceConvolution, HertzDisplacementDiscretisationCheck)
+{
+  // REFERENCES.md §6.3: Hertz pressure at cell centres on [-1.5a, 1.5a]^2,
+  // combined u_z by the §4.1 coefficients vs Johnson's exact u_z. The table
+  // is quoted to 3 digits; 0.5 % relative is half a unit of the last digit
+  // at the smallest leading digit (1.26).
+  struct Row
+  {
+    int    n;
+    double max_error, centre_error;
+  };
+  const double modulus = 200e9 / 1.82;
+  const auto   hertz   = HertzCircular::solve(1250.0, 0.05, modulus);
+  const double a = hertz.contact_radius, u0 = hertz.normal_displacement(0.0, 0.0);
+  for (const Row row : {Row{32, 3.54e-3, 1.26e-3}, Row{64, 8.62e-4, 1.66e-4}, Row{128, 4.71e-4, 6.79e-5}})
+    {
+      const auto grid = SurfaceGrid::centred(row.n, row.n, 1.5 * a, 1.5 * a);
+      const SurfaceConvolution convolution(grid, [&](int di, int dj) {
+        return influence::normal_displacement(di * grid.hx, dj * grid.hy, grid.hx, grid.hy, modulus);
+      });
+      Field pressure(grid.size()), displacement;
+      for (int j = 0; j < grid.ny; ++j)
+        for (int i = 0; i < grid.nx; ++i)
+          pressure[grid.index(i, j)] = hertz.pressure(grid.x(i), grid.y(j));
+      convolution.apply(pressure, displacement);
+      double max_error = 0.0;
+      for (int j = 0; j < grid.ny; ++j)
+        for (int i = 0; i < grid.nx; ++i)
+          max_error = std::max(max_error, std::abs(displacement[grid.index(i, j)] -
+                                                   hertz.normal_displacement(grid.x(i), grid.y(j))));
+      // "At centre": the cell whose lower-left corner is the origin.
+      const int    c            = row.n / 2;
+      const double centre_error = std::abs(displacement[grid.index(c, c)] - hertz.normal_displacement(grid.x(c), grid.y(c)));
+      EXPECT_NEAR(max_error / u0 / row.max_error, 1.0, 5e-3) << "N = " << row.n;
+      EXPECT_NEAR(centre_error / u0 / row.centre_error, 1.0, 5e-3) << "N = " << row.n;
+      if (row.n <= 64)
+        {
+          Field direct;
+          convolution.apply_direct(pressure, direct);
+          // §6.3 last column: DC-FFT minus direct ~ 5e-16 relative.
+          EXPECT_LT(max_abs_difference(displacement, direct) / max_abs(direct), 1e-13) << "N = " << row.n;
+        }
+    }
+}

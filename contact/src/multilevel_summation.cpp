@@ -169,9 +169,19 @@ namespace fretsim::contact
     /// active[o * n_loads + l]: the kernel pair is not identically zero.
     std::vector<char> active;
 
-    /// correction[l][o * n_loads + load]: 4 parity classes (Px + 2 Py), each
-    /// (2m+1)^2 values indexed [dy + m][dx + m], m = widths[o].
-    std::vector<std::vector<std::vector<double>>> correction;
+    /// Local correction of one kernel pair on one level, stored sparsely:
+    /// for parity class k = Px + 2 Py and row dy in [-m, m], the terms
+    /// begin[k (2m+1) + dy + m] .. begin[... + 1] of (dx, coefficient).
+    struct Correction
+    {
+      std::vector<int>    begin;
+      std::vector<int>    dx;
+      std::vector<double> coefficient;
+    };
+    /// correction[l][o * n_loads + load], window half-width m = widths[o].
+    std::vector<std::vector<Correction>> correction;
+    double tolerance = 0.0; ///< relative size of the dropped correction terms
+    std::size_t kept_terms = 0, total_terms = 0;
     /// coarsest[o * n_loads + load]: kernel on the coarsest grid,
     /// (2 ny - 1) rows × (2 nx - 1), indexed [dy + ny - 1][dx + nx - 1].
     std::vector<std::vector<double>> coarsest;
@@ -287,10 +297,45 @@ namespace fretsim::contact
 
   void MultilevelSummation::Impl::build_kernels(const InfluenceBlock &kernels)
   {
-    const int   block  = n_outputs * n_loads;
+    const int         block    = n_outputs * n_loads;
     const std::size_t n_levels = levels.size();
     active.assign(block, 0);
-    correction.assign(n_levels - 1, std::vector<std::vector<double>>(block));
+    correction.assign(n_levels - 1, std::vector<Correction>(block));
+
+    // Kernel over the whole coarsest grid, for its direct sum.
+    const Level              &top         = levels.back();
+    const std::vector<double> top_table   = kernel_table(kernels, n_levels - 1, top.x.n - 1, top.y.n - 1);
+    const std::size_t         cells       = static_cast<std::size_t>(2 * top.x.n - 1) * (2 * top.y.n - 1);
+    coarsest.assign(block, {});
+    for (int pair = 0; pair < block; ++pair)
+      {
+        std::vector<double> &K = coarsest[pair];
+        K.resize(cells);
+        for (std::size_t c = 0; c < cells; ++c)
+          {
+            K[c] = top_table[c * block + pair];
+            if (K[c] != 0.0)
+              active[pair] = 1;
+          }
+      }
+    if (n_levels == 1)
+      return;
+
+    // Scale of the correction tolerance: the kernel's magnitude summed over
+    // every offset the grid can see, sum_d |K(d)| = the largest |w| a unit
+    // load can produce. The surface-grid window |d| <= m is summed exactly;
+    // the rest comes from the coarsest table (a Riemann sum of the smooth far
+    // field; its central spike 4^L K(0) lies inside the window and is left out).
+    std::vector<double> magnitude(block, 0.0);
+    for (int pair = 0; pair < block; ++pair)
+      {
+        const int m = widths[pair / n_loads];
+        for (int dy = -(top.y.n - 1); dy < top.y.n; ++dy)
+          for (int dx = -(top.x.n - 1); dx < top.x.n; ++dx)
+            if (std::abs(dx * top.x.scale) > m || std::abs(dy * top.y.scale) > m)
+              magnitude[pair] += std::fabs(
+                coarsest[pair][static_cast<std::size_t>(dy + top.y.n - 1) * (2 * top.x.n - 1) + dx + top.x.n - 1]);
+      }
 
     // Corrections of every level above the coarsest.
     for (std::size_t l = 0; l + 1 < n_levels; ++l)
@@ -305,6 +350,14 @@ namespace fretsim::contact
         auto kappa = [&](int dx, int dy, int pair) {
           return table[((static_cast<std::size_t>(dy + reach_y)) * tw + (dx + reach_x)) * block + pair];
         };
+        if (l == 0)
+          for (int pair = 0; pair < block; ++pair)
+            {
+              const int m = widths[pair / n_loads];
+              for (int dy = -m; dy <= m; ++dy)
+                for (int dx = -m; dx <= m; ++dx)
+                  magnitude[pair] += std::fabs(kappa(dx, dy, pair));
+            }
 
         // 1-D factors of Ktilde per parity and offset.
         auto factors = [&](const Axis &axis, int m) {
@@ -316,17 +369,24 @@ namespace fretsim::contact
           return f;
         };
 
+        std::vector<std::size_t> kept(block, 0), total(block, 0);
 #pragma omp parallel for schedule(dynamic) num_threads(threads)
         for (int pair = 0; pair < block; ++pair)
           {
-            const int m  = widths[pair / n_loads];
-            const int w  = 2 * m + 1;
+            const int  m  = widths[pair / n_loads];
+            const int  w  = 2 * m + 1;
             const auto fx = factors(L.x, m), fy = factors(L.y, m);
-            std::vector<double> &C = correction[l][pair];
-            C.assign(4 * static_cast<std::size_t>(w) * w, 0.0);
-            bool nonzero = false;
-            for (int Py = 0; Py < 2; ++Py)
-              for (int Px = 0; Px < 2; ++Px)
+            // Dense correction per parity class, then the sparse copy.
+            std::vector<double> C(static_cast<std::size_t>(w) * w);
+            Correction         &sparse = correction[l][pair];
+            sparse.begin.assign(4 * static_cast<std::size_t>(w) + 1, 0);
+            for (int dy = -m; dy <= m; ++dy)
+              for (int dx = -m; dx <= m; ++dx)
+                if (kappa(dx, dy, pair) != 0.0)
+                  active[pair] = 1;
+            for (int k = 0; k < 4; ++k)
+              {
+                const int Px = k % 2, Py = k / 2;
                 for (int dy = -m; dy <= m; ++dy)
                   for (int dx = -m; dx <= m; ++dx)
                     {
@@ -334,33 +394,47 @@ namespace fretsim::contact
                       for (const auto &[ox, wx] : fx[Px][dx + m])
                         for (const auto &[oy, wy] : fy[Py][dy + m])
                           interpolated += wx * wy * kappa(ox, oy, pair);
-                      const double exact = kappa(dx, dy, pair);
-                      C[((Px + 2 * Py) * static_cast<std::size_t>(w) + (dy + m)) * w + (dx + m)] =
-                        exact - interpolated;
-                      nonzero = nonzero || exact != 0.0;
+                      C[static_cast<std::size_t>(dy + m) * w + (dx + m)] = kappa(dx, dy, pair) - interpolated;
                     }
-            if (nonzero)
-              active[pair] = 1;
+                // Drop the smallest terms while their magnitudes add up to at
+                // most tolerance × magnitude: a result on this level then
+                // changes by at most that much times max |load|.
+                std::vector<std::size_t> order(C.size());
+                for (std::size_t t = 0; t < order.size(); ++t)
+                  order[t] = t;
+                std::sort(order.begin(), order.end(),
+                          [&C](std::size_t a, std::size_t b) { return std::fabs(C[a]) < std::fabs(C[b]); });
+                const double budget  = tolerance * magnitude[pair];
+                double       dropped = 0.0;
+                for (const std::size_t t : order)
+                  {
+                    if (dropped + std::fabs(C[t]) > budget)
+                      break;
+                    dropped += std::fabs(C[t]);
+                    C[t] = 0.0;
+                  }
+                for (int dy = -m; dy <= m; ++dy)
+                  {
+                    for (int dx = -m; dx <= m; ++dx)
+                      {
+                        const double c = C[static_cast<std::size_t>(dy + m) * w + (dx + m)];
+                        if (c == 0.0)
+                          continue;
+                        sparse.dx.push_back(dx);
+                        sparse.coefficient.push_back(c);
+                      }
+                    sparse.begin[k * w + dy + m + 1] = static_cast<int>(sparse.dx.size());
+                  }
+              }
+            kept[pair]  = sparse.dx.size();
+            total[pair] = 4 * C.size();
           }
-      }
-
-    // Kernel over the whole coarsest grid, for its direct sum.
-    const Level              &top   = levels.back();
-    const std::vector<double> table = kernel_table(kernels, n_levels - 1, top.x.n - 1, top.y.n - 1);
-    coarsest.assign(block, {});
-    const std::size_t cells = static_cast<std::size_t>(2 * top.x.n - 1) * (2 * top.y.n - 1);
-    for (int pair = 0; pair < block; ++pair)
-      {
-        std::vector<double> &K = coarsest[pair];
-        K.resize(cells);
-        bool nonzero = false;
-        for (std::size_t c = 0; c < cells; ++c)
-          {
-            K[c]    = table[c * block + pair];
-            nonzero = nonzero || K[c] != 0.0;
-          }
-        if (nonzero)
-          active[pair] = 1;
+        for (int pair = 0; pair < block; ++pair)
+          if (active[pair])
+            {
+              kept_terms += kept[pair];
+              total_terms += total[pair];
+            }
       }
   }
 
@@ -489,6 +563,9 @@ namespace fretsim::contact
     impl->n_outputs = n_outputs;
     impl->n_loads   = n_loads;
     impl->order     = settings.interpolation_order;
+    if (!(settings.correction_tolerance >= 0.0 && settings.correction_tolerance < 1.0))
+      throw std::invalid_argument("MLMI: correction tolerance must lie in [0, 1)");
+    impl->tolerance = settings.correction_tolerance;
     if (settings.threads < 0)
       throw std::invalid_argument("MLMI: threads must be >= 0 (0 = OpenMP default)");
     impl->threads = settings.threads;
@@ -544,6 +621,10 @@ namespace fretsim::contact
   int MultilevelSummation::active_kernel_count() const
   {
     return static_cast<int>(std::count(impl->active.begin(), impl->active.end(), 1));
+  }
+  double MultilevelSummation::correction_fill() const
+  {
+    return impl->total_terms == 0 ? 1.0 : static_cast<double>(impl->kept_terms) / impl->total_terms;
   }
   std::vector<std::pair<int, int>> MultilevelSummation::level_sizes() const
   {
@@ -682,24 +763,28 @@ namespace fretsim::contact
           const int pair = o * I.n_loads + ld;
           if (!load_used[ld] || !I.active[pair])
             continue;
-          const std::vector<double> &C = I.correction[l][pair];
+          const Impl::Correction    &C = I.correction[l][pair];
           const std::vector<double> &D = P.data[ld];
           for (int dy = -m; dy <= m; ++dy)
             {
               const double *in_row = D.data() + static_cast<std::size_t>(b - dy + P.pad_y) * 2 * P.in_half;
               for (int Px = 0; Px < 2; ++Px)
                 {
-                  const double *c = C.data() + ((Px + 2 * Py) * static_cast<std::size_t>(width) + (dy + m)) * width;
-                  for (int dx = -m; dx <= m; ++dx)
+                  const int row   = (Px + 2 * Py) * width + (dy + m);
+                  const int first = C.begin[row], terms = C.begin[row + 1] - first;
+                  if (terms == 0)
+                    continue;
+                  for (int t = 0; t < terms; ++t)
                     {
                       // Output lattice x = out_start + 2A + Px; its input
                       // x - dx = x_start + 2B + q with B = A + offset.
-                      const int q                  = parity(Px - dx);
-                      const int offset             = P.shift + (Px - dx - q) / 2;
-                      scratch.coefficients[dx + m] = c[dx + m];
-                      scratch.sources[dx + m]      = in_row + q * P.in_half + offset;
+                      const int dx                = C.dx[first + t];
+                      const int q                 = parity(Px - dx);
+                      const int offset            = P.shift + (Px - dx - q) / 2;
+                      scratch.coefficients[t]     = C.coefficient[first + t];
+                      scratch.sources[t]          = in_row + q * P.in_half + offset;
                     }
-                  accumulate_row(P.out_half, width, scratch.coefficients.data(), scratch.sources.data(),
+                  accumulate_row(P.out_half, terms, scratch.coefficients.data(), scratch.sources.data(),
                                  scratch.row.data() + Px * P.out_half);
                 }
             }

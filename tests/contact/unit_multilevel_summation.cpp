@@ -119,12 +119,14 @@ namespace
     return relative_max_error(w, reference);
   }
 
-  MultilevelSettings settings_with(int order, int width, int levels = 0)
+  MultilevelSettings settings_with(int order, int width, int levels = 0,
+                                   double tolerance = MultilevelSettings{}.correction_tolerance)
   {
     MultilevelSettings s;
-    s.interpolation_order = order;
-    s.correction_width    = width;
-    s.levels              = levels;
+    s.interpolation_order  = order;
+    s.correction_width     = width;
+    s.levels               = levels;
+    s.correction_tolerance = tolerance;
     return s;
   }
 } // namespace
@@ -197,8 +199,8 @@ TEST(MultilevelSummation, ObservedOrderFromCorrectionWidth)
   for (const int order : {2, 4, 6})
     {
       const int    m1 = std::max(2 * order - 2, 4), m2 = 2 * m1;
-      const double e1 = mlmi_error(grid, kernel, p, exact, settings_with(order, m1, 3));
-      const double e2 = mlmi_error(grid, kernel, p, exact, settings_with(order, m2, 3));
+      const double e1 = mlmi_error(grid, kernel, p, exact, settings_with(order, m1, 3, 0.0));
+      const double e2 = mlmi_error(grid, kernel, p, exact, settings_with(order, m2, 3, 0.0));
       const double observed = std::log(e1 / e2) / std::log(static_cast<double>(m2) / m1);
       std::printf("order %d: error %.2e at m = %d, %.2e at m = %d, observed order %.2f\n", order, e1, m1, e2,
                   m2, observed);
@@ -220,6 +222,48 @@ TEST(MultilevelSummation, SmoothInverseCubeAndInverseDistanceKernels)
       std::printf("%s kernel, 96^2: error %.2e\n", name, error);
       // Issue 3 tolerance, max over the field normalised by max |w|.
       EXPECT_LT(error, 1e-3) << name;
+    }
+}
+
+TEST(MultilevelSummation, DroppedCorrectionTermsStayWithinTheirBudget)
+{
+  // Terms are dropped while their magnitudes add up to tolerance × M,
+  // M = sum_d |K(d)| over the grid's offsets, per level and parity class; the
+  // change of a result is then at most that budget times max |U_l| on each
+  // level, carried up through the interpolations (Lebesgue constant
+  // sum_k |c_k| per direction and level). Bound checked with that constant.
+  const SurfaceGrid grid   = hertz_grid(64, 64);
+  const auto        kernel = boussinesq_kernel(grid);
+  const Field       p      = hertz_pressure(grid);
+  double            M      = 0.0;
+  for (int dj = -(grid.ny - 1); dj < grid.ny; ++dj)
+    for (int di = -(grid.nx - 1); di < grid.nx; ++di)
+      M += std::fabs(kernel(di, dj));
+
+  const MultilevelSummation all_terms(grid, kernel, settings_with(6, 0, 0, 0.0));
+  Field                     reference;
+  all_terms.apply(p, reference);
+  const int    levels   = all_terms.levels();
+  const double lebesgue = (2.0 * (3.0 + 25.0 + 150.0)) / 256.0; // order 6 midpoint weights
+  double       previous_fill = all_terms.correction_fill();
+  for (const double tolerance : {1e-6, 1e-5, 1e-4})
+    {
+      const MultilevelSummation pruned(grid, kernel, settings_with(6, 0, 0, tolerance));
+      Field                     w;
+      pruned.apply(p, w);
+      double change = 0.0;
+      for (std::size_t c = 0; c < w.size(); ++c)
+        change = std::max(change, std::fabs(w[c] - reference[c]));
+      // sum over levels l of budget × max|U_l| (<= Lebesgue^2l max u, max u = 1)
+      // × Lebesgue^2l on the way back up.
+      double bound = 0.0;
+      for (int l = 0; l < levels; ++l)
+        bound += tolerance * M * std::pow(lebesgue, 4.0 * l);
+      std::printf("tolerance %.0e: %.1f %% of the terms kept, change %.2e, bound %.2e\n", tolerance,
+                  100.0 * pruned.correction_fill(), change, bound);
+      EXPECT_LE(change, bound) << tolerance;
+      EXPECT_LT(pruned.correction_fill(), previous_fill) << tolerance; // fewer terms as it grows
+      previous_fill = pruned.correction_fill();
     }
 }
 
@@ -250,14 +294,15 @@ TEST(MultilevelSummation, WindowCoveringTheGridIsExact)
 {
   // With m >= n - 1 the correction replaces every interpolated coefficient
   // by the exact one on every level, so any hierarchy must reproduce the
-  // direct sum to round-off: a check of the correction algebra itself.
+  // direct sum to round-off: a check of the correction algebra itself (with
+  // every correction term kept).
   const SurfaceGrid grid   = hertz_grid(30, 23);
   const auto        kernel = boussinesq_kernel(grid);
   const Field       p      = hertz_pressure(grid);
   const Field       exact  = direct_sum(grid, kernel, p);
   for (const int order : {2, 4, 6, 8})
     for (const int levels : {1, 2})
-      EXPECT_LT(mlmi_error(grid, kernel, p, exact, settings_with(order, 29, levels)), 1e-13)
+      EXPECT_LT(mlmi_error(grid, kernel, p, exact, settings_with(order, 29, levels, 0.0)), 1e-13)
         << "order " << order << ", levels " << levels;
 }
 

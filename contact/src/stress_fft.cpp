@@ -4,7 +4,10 @@
 //
 // Per call: 3 forward r2c transforms (p, qx, qy), then for every layer and
 // component the three spectral products are summed and ONE inverse c2r
-// transform gives that component: 3 + 6 nz transforms.
+// transform gives that component: 3 + 6 nz transforms. The 2-D transforms are
+// done as row and column passes so that the zero rows of the padded load are
+// never transformed and only the ny output rows that are kept are
+// back-transformed: each transform costs ~3/4 of a full 2nx x 2ny one.
 //
 // Kernel spectra, memory: per layer 18 (load, component) kernels, of which 15
 // are distinct (reciprocity: sigma_zz from qx = sigma_xz from p, sigma_zz from
@@ -12,8 +15,9 @@
 // even or odd in x and in y, so its spectrum is purely real or purely
 // imaginary and even or odd in ky: one real quarter, (ny+1) x (nx+1) values,
 // stores it exactly. 15 nz (nx+1)(ny+1) doubles in all: 253 MB at 512^2 with
-// 8 layers. Layers whose spectra do not fit spectrum_budget_bytes are
-// recomputed on every call (correct, slower), so memory stays bounded.
+// 8 layers. Layers whose spectra do not fit the cache budget (default
+// 512 MiB: 16 layers at 512^2) are recomputed on every call (same result,
+// slower), so memory stays bounded.
 #include <fretsim/contact/subsurface_stress.h>
 
 #include <fftw3.h>
@@ -33,7 +37,6 @@ namespace fretsim::contact
     /// FFTW's planner is not thread safe; all planning in this file goes through it.
     std::mutex planner_mutex;
 
-    constexpr std::size_t spectrum_budget_bytes = std::size_t(512) << 20;
     constexpr int         distinct_kernels      = 15;
 
     /// (load, component) -> index of its distinct kernel.
@@ -90,19 +93,33 @@ namespace fretsim::contact
     class FftStress final : public SubsurfaceStress
     {
     public:
-      FftStress(const SurfaceGrid &grid, const std::vector<double> &depths, double poisson_ratio)
+      FftStress(const SurfaceGrid &grid, const std::vector<double> &depths, double poisson_ratio,
+                std::size_t spectrum_budget_bytes)
         : grid(grid), depths(depths), poisson_ratio(poisson_ratio), mx(2 * grid.nx), my(2 * grid.ny),
           cx(grid.nx + 1), quarter(static_cast<std::size_t>(grid.ny + 1) * cx)
       {
         const std::size_t real_size = static_cast<std::size_t>(mx) * my, complex_size = static_cast<std::size_t>(my) * cx;
-        FftwArray<double>       real(real_size);
-        FftwArray<fftw_complex> spectrum(complex_size);
+        const std::size_t half_real_size = static_cast<std::size_t>(mx) * grid.ny;
         {
+          FftwArray<double>       real(real_size);
+          FftwArray<fftw_complex> spectrum(complex_size);
+          // FFTW_MEASURE overwrites the arrays while planning: they are scratch.
           std::lock_guard<std::mutex> lock(planner_mutex);
-          forward = fftw_plan_dft_r2c_2d(my, mx, real.data, spectrum.data, FFTW_MEASURE);
-          inverse = fftw_plan_dft_c2r_2d(my, mx, spectrum.data, real.data, FFTW_MEASURE);
+          const int ny = grid.ny;
+          kernel_forward = fftw_plan_dft_r2c_2d(my, mx, real.data, spectrum.data, FFTW_MEASURE);
+          // ny rows of length mx -> ny rows of cx (the other my - ny rows are zero) ...
+          rows_forward = fftw_plan_many_dft_r2c(1, &mx, ny, real.data, nullptr, 1, mx, spectrum.data, nullptr, 1, cx,
+                                                FFTW_MEASURE);
+          // ... then cx columns of length my, in place.
+          columns_forward = fftw_plan_many_dft(1, &my, cx, spectrum.data, nullptr, cx, 1, spectrum.data, nullptr, cx, 1,
+                                               FFTW_FORWARD, FFTW_MEASURE);
+          columns_inverse = fftw_plan_many_dft(1, &my, cx, spectrum.data, nullptr, cx, 1, spectrum.data, nullptr, cx, 1,
+                                               FFTW_BACKWARD, FFTW_MEASURE);
+          // Only rows 0..ny-1 of the result are kept.
+          rows_inverse = fftw_plan_many_dft_c2r(1, &mx, ny, spectrum.data, nullptr, 1, cx, real.data, nullptr, 1, mx,
+                                                FFTW_MEASURE);
         }
-        if (!forward || !inverse)
+        if (!kernel_forward || !rows_forward || !columns_forward || !columns_inverse || !rows_inverse)
           throw std::runtime_error("DC-FFT stress: FFTW could not plan the transforms");
 
         const std::size_t per_layer = distinct_kernels * quarter;
@@ -112,7 +129,7 @@ namespace fretsim::contact
           compute_layer_spectra(layer, cached_spectra.data() + layer * per_layer);
         for (int l = 0; l < 3; ++l)
           {
-            padded_load[l] = FftwArray<double>(real_size);
+            padded_load[l] = FftwArray<double>(half_real_size);
             load_spectrum[l] = FftwArray<fftw_complex>(complex_size);
           }
       }
@@ -120,8 +137,9 @@ namespace fretsim::contact
       ~FftStress() override
       {
         std::lock_guard<std::mutex> lock(planner_mutex);
-        fftw_destroy_plan(forward);
-        fftw_destroy_plan(inverse);
+        for (fftw_plan plan : {kernel_forward, rows_forward, columns_forward, columns_inverse, rows_inverse})
+          if (plan)
+            fftw_destroy_plan(plan);
       }
 
       std::string name() const override { return "fft"; }
@@ -146,7 +164,7 @@ namespace fretsim::contact
         while (static_cast<int>(work_spectrum.size()) < threads)
           {
             work_spectrum.emplace_back(static_cast<std::size_t>(my) * cx);
-            work_real.emplace_back(static_cast<std::size_t>(mx) * my);
+            work_real.emplace_back(static_cast<std::size_t>(mx) * ny);
           }
 
 #pragma omp parallel for schedule(static)
@@ -156,7 +174,10 @@ namespace fretsim::contact
             double   *in = padded_load[l].data;
             for (int j = 0; j < ny; ++j)
               std::copy_n(loads[l]->data() + static_cast<std::size_t>(j) * nx, nx, in + static_cast<std::size_t>(j) * mx);
-            fftw_execute_dft_r2c(forward, in, load_spectrum[l].data);
+            fftw_complex *spectrum = load_spectrum[l].data;
+            fftw_execute_dft_r2c(rows_forward, in, spectrum);
+            std::fill_n(&spectrum[static_cast<std::size_t>(ny) * cx][0], 2 * static_cast<std::size_t>(my - ny) * cx, 0.0);
+            fftw_execute_dft(columns_forward, spectrum, spectrum);
           }
 
         const std::size_t per_layer = distinct_kernels * quarter;
@@ -194,62 +215,70 @@ namespace fretsim::contact
         const int     thread = omp_get_thread_num();
         fftw_complex *sum    = work_spectrum[thread].data;
         double       *real   = work_real[thread].data;
+        // Each kernel spectrum is s K with K real and s one of +-1, +-i (its
+        // parity type and the mirror sign of rows ky > my/2).
+        const double *kernel[3];
+        const fftw_complex *load[3];
+        double              sign_real[3], sign_imag[3], mirror_sign[3];
         for (int a = 0; a < n_active; ++a)
           {
-            const int     l         = active[a];
-            const int     u         = kernel_map.index[l][c];
-            const double *kernel    = spectra + u * quarter;
-            const bool    imaginary = detail::kernel_parity_x(l, c) * detail::kernel_parity_y(l, c) < 0;
-            const double  py        = detail::kernel_parity_y(l, c);
-            const fftw_complex *load = load_spectrum[l].data;
-            for (int ky = 0; ky < my; ++ky)
-              {
-                // Spectrum row ky > my/2 is the mirror row my - ky times the y parity.
-                const bool    mirrored = ky > my / 2;
-                const double *k        = kernel + static_cast<std::size_t>(mirrored ? my - ky : ky) * cx;
-                const double  sign     = mirrored ? py : 1.0;
-                const fftw_complex *in = load + static_cast<std::size_t>(ky) * cx;
-                fftw_complex       *out = sum + static_cast<std::size_t>(ky) * cx;
-                if (imaginary)
-                  { // (i K)(re + i im) = -K im + i K re
-                    if (a == 0)
-                      for (int kx = 0; kx < cx; ++kx)
-                        {
-                          const double s = sign * k[kx];
-                          out[kx][0]     = -s * in[kx][1];
-                          out[kx][1]     = s * in[kx][0];
-                        }
-                    else
-                      for (int kx = 0; kx < cx; ++kx)
-                        {
-                          const double s = sign * k[kx];
-                          out[kx][0] -= s * in[kx][1];
-                          out[kx][1] += s * in[kx][0];
-                        }
-                  }
-                else
-                  {
-                    if (a == 0)
-                      for (int kx = 0; kx < cx; ++kx)
-                        {
-                          const double s = sign * k[kx];
-                          out[kx][0]     = s * in[kx][0];
-                          out[kx][1]     = s * in[kx][1];
-                        }
-                    else
-                      for (int kx = 0; kx < cx; ++kx)
-                        {
-                          const double s = sign * k[kx];
-                          out[kx][0] += s * in[kx][0];
-                          out[kx][1] += s * in[kx][1];
-                        }
-                  }
-              }
+            const int l    = active[a];
+            kernel[a]      = spectra + kernel_map.index[l][c] * quarter;
+            load[a]        = load_spectrum[l].data;
+            const bool imaginary = detail::kernel_parity_x(l, c) * detail::kernel_parity_y(l, c) < 0;
+            sign_real[a]   = imaginary ? 0.0 : 1.0;
+            sign_imag[a]   = imaginary ? 1.0 : 0.0;
+            mirror_sign[a] = detail::kernel_parity_y(l, c);
           }
-        fftw_execute_dft_c2r(inverse, sum, real);
+        switch (n_active)
+          {
+            case 1: spectral_sum<1>(kernel, load, sign_real, sign_imag, mirror_sign, sum); break;
+            case 2: spectral_sum<2>(kernel, load, sign_real, sign_imag, mirror_sign, sum); break;
+            default: spectral_sum<3>(kernel, load, sign_real, sign_imag, mirror_sign, sum); break;
+          }
+        fftw_execute_dft(columns_inverse, sum, sum);
+        fftw_execute_dft_c2r(rows_inverse, sum, real);
         const int nx = grid.nx, ny = grid.ny;
         for (int j = 0; j < ny; ++j)
           std::copy_n(real + static_cast<std::size_t>(j) * mx, nx, &stress.at(layer, c, j, 0));
+      }
+
+      /// sum = sum over the N loads of (kernel spectrum) x (load spectrum), in
+      /// one pass so the accumulator is written once (memory bound).
+      template <int N>
+      void spectral_sum(const double *const *kernel, const fftw_complex *const *load, const double *sign_real,
+                        const double *sign_imag, const double *mirror_sign, fftw_complex *sum) const
+      {
+        for (int ky = 0; ky < my; ++ky)
+          {
+            // Spectrum row ky > my/2 is the stored row my - ky times the y parity.
+            const bool        mirrored = ky > my / 2;
+            const std::size_t row      = static_cast<std::size_t>(mirrored ? my - ky : ky) * cx;
+            const double     *k[N];
+            const double     *in[N];
+            double            cr[N], ci[N];
+            for (int a = 0; a < N; ++a)
+              {
+                k[a]            = kernel[a] + row;
+                in[a]           = &load[a][static_cast<std::size_t>(ky) * cx][0];
+                const double sg = mirrored ? mirror_sign[a] : 1.0;
+                cr[a]           = sg * sign_real[a];
+                ci[a]           = sg * sign_imag[a];
+              }
+            double *out = &sum[static_cast<std::size_t>(ky) * cx][0];
+            for (int kx = 0; kx < cx; ++kx)
+              {
+                double re = 0.0, im = 0.0;
+                for (int a = 0; a < N; ++a)
+                  {
+                    const double lr = in[a][2 * kx], li = in[a][2 * kx + 1], kv = k[a][kx];
+                    re += kv * (cr[a] * lr - ci[a] * li);
+                    im += kv * (cr[a] * li + ci[a] * lr);
+                  }
+                out[2 * kx]     = re;
+                out[2 * kx + 1] = im;
+              }
+          }
       }
 
       /// The 15 distinct kernel spectra of one layer as real quarters, scaled
@@ -288,7 +317,7 @@ namespace fretsim::contact
                         }
                     }
                 }
-              fftw_execute_dft_r2c(forward, padded.data, spectrum.data);
+              fftw_execute_dft_r2c(kernel_forward, padded.data, spectrum.data);
               const bool imaginary = px * py < 0;
               double    *dst       = out + u * quarter;
               for (int ky = 0; ky <= ny; ++ky)
@@ -304,7 +333,9 @@ namespace fretsim::contact
       double              poisson_ratio;
       int                 mx, my, cx; ///< padded sizes and r2c width mx/2 + 1
       std::size_t         quarter;    ///< (my/2 + 1) * cx reals per kernel spectrum
-      fftw_plan           forward = nullptr, inverse = nullptr;
+      fftw_plan           kernel_forward = nullptr; ///< full 2-D r2c, construction only
+      fftw_plan           rows_forward = nullptr, columns_forward = nullptr;
+      fftw_plan           columns_inverse = nullptr, rows_inverse = nullptr;
       int                 cached_layers = 0;
       std::vector<double> cached_spectra;
 
@@ -320,9 +351,9 @@ namespace fretsim::contact
   namespace detail
   {
     std::unique_ptr<SubsurfaceStress> make_fft_stress(const SurfaceGrid &grid, const std::vector<double> &depths,
-                                                      double poisson_ratio)
+                                                      double poisson_ratio, std::size_t spectrum_budget_bytes)
     {
-      return std::make_unique<FftStress>(grid, depths, poisson_ratio);
+      return std::make_unique<FftStress>(grid, depths, poisson_ratio, spectrum_budget_bytes);
     }
   } // namespace detail
 } // namespace fretsim::contact

@@ -370,6 +370,22 @@ TEST(SubsurfaceStressEvaluators, FftEqualsDirectSummation)
   EXPECT_LT(relative, 1e-10);
 }
 
+TEST(SubsurfaceStressEvaluators, FftWithoutSpectrumCacheIsIdentical)
+{
+  // Layers beyond the spectrum memory budget are recomputed on every call. A
+  // layer's spectra take 15 (nx+1)(ny+1) doubles; with a budget of 1.3 layers
+  // one layer of this case is cached and three are not, with 0 none: both
+  // must equal the fully cached evaluator bitwise (same arithmetic, the
+  // spectra only live elsewhere).
+  const MixedCase m = mixed_case();
+  StressField     cached, partly, uncached;
+  detail::make_fft_stress(m.grid, m.depths, nu)->evaluate(m.p, m.qx, m.qy, cached);
+  detail::make_fft_stress(m.grid, m.depths, nu, 20 * 38 * 23 * sizeof(double))->evaluate(m.p, m.qx, m.qy, partly);
+  detail::make_fft_stress(m.grid, m.depths, nu, 0)->evaluate(m.p, m.qx, m.qy, uncached);
+  EXPECT_EQ(cached.values, partly.values);
+  EXPECT_EQ(cached.values, uncached.values);
+}
+
 TEST(SubsurfaceStressEvaluators, DirectEqualsExplicitKernelSum)
 {
   // The direct evaluator's kernel table and parity bookkeeping against a plain

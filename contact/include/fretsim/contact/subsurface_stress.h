@@ -59,8 +59,11 @@ namespace fretsim::contact
   namespace detail
   {
     /// The DC-FFT evaluator (stress_fft.cpp); arguments already validated.
+    /// Kernel spectra of as many layers as fit the budget are cached, the
+    /// others recomputed on every call.
     std::unique_ptr<SubsurfaceStress> make_fft_stress(const SurfaceGrid &grid, const std::vector<double> &depths,
-                                                      double poisson_ratio);
+                                                      double poisson_ratio,
+                                                      std::size_t spectrum_budget_bytes = std::size_t(512) << 20);
     /// Throws std::invalid_argument unless every load has one value per cell.
     void check_stress_loads(const SurfaceGrid &grid, const Field &pressure, const Field &shear_x,
                             const Field &shear_y);

@@ -25,7 +25,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <complex>
 #include <cstring>
 #include <mutex>
 #include <stdexcept>
@@ -34,7 +33,9 @@ namespace fretsim::contact
 {
   namespace
   {
-    /// FFTW's planner is not thread safe; all planning in this file goes through it.
+    /// FFTW's planner is not thread safe: all planning and plan destruction in
+    /// this file go through this lock (other modules planning concurrently in
+    /// another thread are not covered).
     std::mutex planner_mutex;
 
     constexpr int         distinct_kernels      = 15;
@@ -120,7 +121,10 @@ namespace fretsim::contact
                                                 FFTW_MEASURE);
         }
         if (!kernel_forward || !rows_forward || !columns_forward || !columns_inverse || !rows_inverse)
-          throw std::runtime_error("DC-FFT stress: FFTW could not plan the transforms");
+          {
+            destroy_plans();
+            throw std::runtime_error("DC-FFT stress: FFTW could not plan the transforms");
+          }
 
         const std::size_t per_layer = distinct_kernels * quarter;
         cached_layers = static_cast<int>(std::min<std::size_t>(depths.size(), spectrum_budget_bytes / (per_layer * sizeof(double))));
@@ -134,13 +138,7 @@ namespace fretsim::contact
           }
       }
 
-      ~FftStress() override
-      {
-        std::lock_guard<std::mutex> lock(planner_mutex);
-        for (fftw_plan plan : {kernel_forward, rows_forward, columns_forward, columns_inverse, rows_inverse})
-          if (plan)
-            fftw_destroy_plan(plan);
-      }
+      ~FftStress() override { destroy_plans(); }
 
       std::string name() const override { return "fft"; }
 
@@ -207,6 +205,17 @@ namespace fretsim::contact
       }
 
     private:
+      void destroy_plans()
+      {
+        std::lock_guard<std::mutex> lock(planner_mutex);
+        for (fftw_plan *plan : {&kernel_forward, &rows_forward, &columns_forward, &columns_inverse, &rows_inverse})
+          if (*plan)
+            {
+              fftw_destroy_plan(*plan);
+              *plan = nullptr;
+            }
+      }
+
       /// Sum of the spectral products of the active loads with the kernels of
       /// component c, one inverse transform, the first ny x nx values kept.
       void component(const double *spectra, int layer, int c, const int *active, int n_active,
@@ -333,7 +342,7 @@ namespace fretsim::contact
       double              poisson_ratio;
       int                 mx, my, cx; ///< padded sizes and r2c width mx/2 + 1
       std::size_t         quarter;    ///< (my/2 + 1) * cx reals per kernel spectrum
-      fftw_plan           kernel_forward = nullptr; ///< full 2-D r2c, construction only
+      fftw_plan           kernel_forward = nullptr; ///< full 2-D r2c, for the kernel spectra
       fftw_plan           rows_forward = nullptr, columns_forward = nullptr;
       fftw_plan           columns_inverse = nullptr, rows_inverse = nullptr;
       int                 cached_layers = 0;

@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-namespace fretsim::testing
+namespace fretsim::test_files
 {
   inline std::filesystem::path scratch_directory(const std::string &name)
   {
@@ -40,4 +40,4 @@ namespace fretsim::testing
       }
     return text;
   }
-} // namespace fretsim::testing
+} // namespace fretsim::test_files

@@ -16,8 +16,8 @@ namespace
   /// The InputError message for a scene file, or "" if it loads.
   std::string load_error(const std::string &text, const std::string &extension = ".prm")
   {
-    const auto path = testing::scratch_directory("parameters") / ("scene" + extension);
-    testing::write_text(path, text);
+    const auto path = test_files::scratch_directory("parameters") / ("scene" + extension);
+    test_files::write_text(path, text);
     try
       {
         scenes::load_scene(path.string());
@@ -32,7 +32,7 @@ namespace
 
 TEST(Parameters, ShippedPaperSceneLoads)
 {
-  EXPECT_EQ(load_error(testing::edited_paper_scene({})), "");
+  EXPECT_EQ(load_error(test_files::edited_paper_scene({})), "");
 }
 
 TEST(Parameters, EveryParameterHasDefaultRangeAndUnit)
@@ -85,7 +85,7 @@ TEST(Parameters, OutOfRangeValuesNameParameterAndExpectation)
        })
     {
       // Poisson ratio appears twice in the file; the first (lower body) is edited.
-      const std::string message = load_error(testing::edited_paper_scene({{c.name, c.value}}));
+      const std::string message = load_error(test_files::edited_paper_scene({{c.name, c.value}}));
       EXPECT_NE(message.find("scene.prm"), std::string::npos) << message;
       EXPECT_NE(message.find(c.parameter), std::string::npos) << message;
       EXPECT_NE(message.find(c.expectation), std::string::npos) << message;

@@ -7,7 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdlib>
 #include <sys/wait.h>
@@ -28,9 +30,9 @@ namespace
 
   Outcome run_program(const std::string &arguments)
   {
-    const auto log = testing::scratch_directory("cli-log") / "output.txt";
+    const auto log = test_files::scratch_directory("cli-log") / "output.txt";
     const int  status = std::system((program + " " + arguments + " > " + log.string() + " 2>&1").c_str());
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, testing::read_text(log)};
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, test_files::read_text(log)};
   }
 
   /// A small, fast variant of the paper scene.
@@ -40,7 +42,7 @@ namespace
       {"Cells x", "32"}, {"Cells y", "32"}, {"Cycles", "3"}, {"Steps per cycle", "40"},
       {"Field snapshots per cycle", "4"}};
     edits.insert(edits.end(), extra.begin(), extra.end());
-    return testing::edited_paper_scene(edits);
+    return test_files::edited_paper_scene(edits);
   }
 
   double summary_number(const std::string &json, const std::string &key)
@@ -68,9 +70,9 @@ TEST(Cli, VersionHelpAndParams)
 
 TEST(Cli, BadInputExitsWithTwoAndWritesNothing)
 {
-  const auto directory = testing::scratch_directory("cli-bad");
+  const auto directory = test_files::scratch_directory("cli-bad");
   const auto scene     = directory / "bad.prm";
-  testing::write_text(scene, small_scene({{"Normal load", "-5"}}));
+  test_files::write_text(scene, small_scene({{"Normal load", "-5"}}));
   const auto output = directory / "out";
   const auto result = run_program("run " + scene.string() + " -o " + output.string());
   EXPECT_EQ(result.exit_code, 2) << result.output;
@@ -87,14 +89,14 @@ TEST(Cli, BadInputExitsWithTwoAndWritesNothing)
 
 TEST(Cli, SmallConcentratedRunWritesResultsAndSummary)
 {
-  const auto directory = testing::scratch_directory("cli-run");
+  const auto directory = test_files::scratch_directory("cli-run");
   const auto scene     = directory / "small.prm";
-  testing::write_text(scene, small_scene());
+  test_files::write_text(scene, small_scene());
   const auto output = directory / "out";
   const auto result = run_program("run " + scene.string() + " -o " + output.string() + " --no-plots");
   ASSERT_EQ(result.exit_code, 0) << result.output;
   EXPECT_NE(result.output.find("results.h5"), std::string::npos);
-  const std::string summary = testing::read_text(output / "summary.json");
+  const std::string summary = test_files::read_text(output / "summary.json");
   for (const std::string key : {"scene", "wall_time_s", "contact_radius_m", "peak_pressure_Pa",
                                 "tangential_force_amplitude_N", "dissipated_energy_per_cycle_J",
                                 "loop_error_vs_mindlin"})
@@ -113,9 +115,9 @@ namespace
   /// returns the exit status and the output directory.
   std::pair<int, std::filesystem::path> interrupted_run(int signal_number, const std::string &name)
   {
-    const auto directory = testing::scratch_directory(name);
+    const auto directory = test_files::scratch_directory(name);
     const auto scene     = directory / "long.prm";
-    testing::write_text(scene, small_scene({{"Cycles", "100000"}, {"Steps per cycle", "200"},
+    test_files::write_text(scene, small_scene({{"Cycles", "100000"}, {"Steps per cycle", "200"},
                                             {"Field snapshots per cycle", "1"}, {"Field output cycles", "100000"}}));
     const auto output = directory / "out";
     const pid_t child = fork();
@@ -141,7 +143,7 @@ TEST(Cli, InterruptedRunClosesResultsWithStepsDone)
   EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM);
   const auto time = output::ResultsFile::read_dataset((output / "results.h5").string(), "/series/time");
   EXPECT_GT(time.size(), 10u);
-  EXPECT_NE(testing::read_text(output / "summary.json").find("\"interrupted\""), std::string::npos);
+  EXPECT_NE(test_files::read_text(output / "summary.json").find("\"interrupted\""), std::string::npos);
 }
 
 TEST(Cli, KilledRunLeavesReadableResults)

@@ -200,6 +200,10 @@ namespace fretsim::app
   struct SceneParameters::Impl
   {
     mutable dealii::ParameterHandler handler;
+    /// Each parameter's pattern, by path. The handler itself accepts any text
+    /// so that a mismatch is reported here with the full path and the range in
+    /// words (deal.II's own message names neither the subsection nor the range).
+    std::map<std::string, std::unique_ptr<dealii::Patterns::PatternBase>> patterns;
 
     template <typename F>
     auto at(const std::string &path, F &&read) const
@@ -257,8 +261,9 @@ namespace fretsim::app
               pattern = std::make_unique<dealii::Patterns::List>(Double(lower, upper), 0, 1000);
               break;
           }
-        handler.declare_entry(parts.back(), spec.default_value, *pattern,
+        handler.declare_entry(parts.back(), spec.default_value, dealii::Patterns::Anything(),
                               spec.doc + " Allowed: " + spec.expected() + ".");
+        impl->patterns[spec.path] = std::move(pattern);
         for (std::size_t i = 0; i + 1 < parts.size(); ++i)
           handler.leave_subsection();
       }
@@ -291,6 +296,12 @@ namespace fretsim::app
         throw InputError(path, "", one_line(error.what()));
       }
 
+    for (const auto &spec : spec_table)
+      {
+        const std::string value = get(spec.path);
+        if (!impl->patterns.at(spec.path)->match(value))
+          reject(spec.path, "expected " + spec.expected() + ", got '" + value + "'");
+      }
     // Exclusive bounds and the plain-number checks deal.II's patterns cannot say.
     for (const auto &spec : spec_table)
       {

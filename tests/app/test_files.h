@@ -4,14 +4,18 @@
 #include <fstream>
 #include <regex>
 #include <string>
+#include <unistd.h>
 #include <utility>
 #include <vector>
 
 namespace fretsim::test_files
 {
+  /// A fresh directory of this test process: ctest runs tests in parallel,
+  /// each in its own process, so the name carries the process id.
   inline std::filesystem::path scratch_directory(const std::string &name)
   {
-    const auto path = std::filesystem::temp_directory_path() / ("fretsim-test-" + name);
+    const auto path = std::filesystem::temp_directory_path() /
+                      ("fretsim-test-" + name + "-" + std::to_string(::getpid()));
     std::filesystem::remove_all(path);
     std::filesystem::create_directories(path);
     return path;

@@ -44,7 +44,9 @@ TEST(Parameters, EveryParameterHasDefaultRangeAndUnit)
       // Doc strings end with the unit in brackets, [-] when dimensionless
       // (selections describe their options instead).
       if (spec.kind != app::ParameterSpec::Kind::selection)
-        EXPECT_NE(spec.doc.find('['), std::string::npos) << spec.path;
+        {
+          EXPECT_NE(spec.doc.find('['), std::string::npos) << spec.path;
+        }
       EXPECT_FALSE(spec.expected().empty()) << spec.path;
     }
   std::ostringstream reference;
@@ -79,7 +81,7 @@ TEST(Parameters, OutOfRangeValuesNameParameterAndExpectation)
          {"Poisson ratio  ", "0.5", "Poisson ratio", "< 0.5"},
          {"Friction coefficient    ", "-0.1", "Friction coefficient", ">= 0"},
          {"Cells x          ", "0", "Cells x", ">= 8"},
-         {"Normal load      ", "abc", "Normal load", "Double"},
+         {"Normal load      ", "abc", "Normal load", "a number > 0, got 'abc'"},
          {"Pressure model", "fem", "Pressure model", "numerical|hertz"},
          {"Field snapshots per cycle", "7", "Field snapshots per cycle", "divisor"},
        })

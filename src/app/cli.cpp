@@ -3,6 +3,7 @@
 #include "app/build_info.h"
 #include "app/parameters.h"
 #include "app/run_control.h"
+#include "app/stress_benchmark.h"
 #include "scenes/scene.h"
 
 #include <fretsim/fem/library_info.h>
@@ -79,6 +80,20 @@ namespace fretsim::app
     run->add_flag("-q,--quiet", quiet, "No progress line");
     auto *params = app.add_subcommand("params", "Print every parameter of a scene: default, allowed values, unit");
     params->add_option("SCENE", scene, "Scene name (default: all scenes)");
+    auto *bench = app.add_subcommand("bench", "Error against run time of the numerical approximations");
+    bench->require_subcommand(1);
+    StressBenchmarkOptions stress_bench;
+    auto *bench_stresses = bench->add_subcommand(
+      "stresses", "Subsurface-stress evaluators (direct, MLMI, DC-FFT): run time and error against direct "
+                  "summation over grid sizes, depth layers and threads; table, CSV and PNG");
+    bench_stresses->add_option("--sizes", stress_bench.sizes, "Cells per side")->delimiter(',')->capture_default_str();
+    bench_stresses->add_option("--layers", stress_bench.layers, "Depth-layer counts")->delimiter(',')->capture_default_str();
+    bench_stresses->add_option("--threads", stress_bench.threads, "Thread counts")->delimiter(',')->capture_default_str();
+    bench_stresses->add_option("--direct-limit", stress_bench.direct_time_limit,
+                               "Run direct summation only where its predicted time is below this [s]")
+      ->capture_default_str();
+    bench_stresses->add_option("-o,--output", stress_bench.output_directory, "Output directory")->capture_default_str();
+    bench_stresses->add_flag("--no-plots", no_plots, "Do not write the PNG figure");
 
     try
       {
@@ -94,6 +109,14 @@ namespace fretsim::app
       {
         if (*run)
           return run_scene(config_file, output_directory, !no_plots, quiet);
+        if (*bench_stresses)
+          {
+            stress_bench.plots = !no_plots;
+            for (const auto &file : run_stress_benchmark(stress_bench))
+              std::cout << (file.size() > 4 && file.substr(file.size() - 4) == ".png" ? "figure:   " : "table:    ")
+                        << std::filesystem::absolute(file).string() << "\n";
+            return exit_ok;
+          }
         return print_parameters(scene);
       }
     catch (const InputError &error)

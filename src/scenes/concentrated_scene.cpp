@@ -32,26 +32,6 @@ namespace fretsim::scenes
       return std::chrono::duration<double>(Clock::now() - start).count();
     }
 
-    /// The Hertz solution the grid, the bristle calibration and the Mindlin
-    /// reference are built on; circular when Rx == Ry.
-    struct HertzSummary
-    {
-      double semi_axis_x, semi_axis_y, peak_pressure, approach;
-      bool   circular;
-      double equivalent_radius() const { return std::sqrt(semi_axis_x * semi_axis_y); }
-    };
-
-    HertzSummary hertz_of(double load, double radius_x, double radius_y, double contact_modulus)
-    {
-      if (radius_x == radius_y)
-        {
-          const auto h = contact::HertzCircular::solve(load, radius_x, contact_modulus);
-          return {h.contact_radius, h.contact_radius, h.peak_pressure, h.approach, true};
-        }
-      const auto h = contact::HertzElliptical::solve(load, radius_x, radius_y, contact_modulus);
-      return {h.semi_axis_x, h.semi_axis_y, h.peak_pressure, h.approach, false};
-    }
-
     double max_of(const contact::Field &field)
     {
       double result = 0.0;
@@ -118,16 +98,81 @@ namespace fretsim::scenes
                                      "Relative gap error at which the normal solver stops [-].", 0, 1e-2, true));
     specs.push_back(Spec::integer_range("Normal contact/Maximum iterations", "5000",
                                         "Iteration limit of the normal solver [-].", 1, 10000000));
+    specs.push_back(Spec::selection("Stresses/Evaluator", "fft",
+                                    "How the subsurface stresses of the surface loads are summed: fft (DC-FFT, "
+                                    "equal to direct summation to round-off, the fastest), mlmi (multilevel "
+                                    "multi-integration, error ~1e-4 p0), direct (O(N^2) reference, slow beyond "
+                                    "64 x 64 cells). `fretsim bench stresses` reports error against run time.",
+                                    "fft|mlmi|direct"));
+    {
+      auto depths = Spec::non_negative("Stresses/Depth layers", "0, 3.75e-5, 7.5e-5, 1.5e-4, 3.6e-4",
+                                       "Depths z below the surface of the lower body at which the full stress "
+                                       "tensor is evaluated, comma-separated; 0 is on the surface [m].");
+      depths.kind = Spec::Kind::real_list;
+      specs.push_back(depths);
+    }
+    specs.push_back(Spec::integer_range("Stresses/MLMI levels", "0",
+                                        "Coarse levels of the MLMI evaluator; 0 chooses them from the grid [-].", 0,
+                                        20));
+    specs.push_back(Spec::integer_range("Stresses/MLMI order", "6",
+                                        "Even order of the Lagrange interpolation between MLMI levels; the error "
+                                        "falls with the order [-].", 2, 12));
     specs.push_back(Spec::integer_range("Output/Field snapshots per cycle", "20",
-                                        "Surface field snapshots (pressure, shear, effective friction, slip) "
-                                        "written per cycle [-].", 0, 1000000));
+                                        "Field snapshots (pressure, shear, effective friction, slip and the "
+                                        "stress tensor on the depth layers) written per cycle [-].", 0, 1000000));
     specs.push_back(Spec::integer_range("Output/Field output cycles", "1",
                                         "Snapshots are written for this many final cycles [-].", 0, 100000));
     return specs;
   }
 
+  double ConcentratedContactScene::HertzSummary::equivalent_radius() const
+  {
+    return std::sqrt(semi_axis_x * semi_axis_y);
+  }
+
   ConcentratedContactScene::ConcentratedContactScene(app::SceneParameters parameters_)
     : parameters(std::move(parameters_))
+  {
+    read_settings();
+    const auto  &s               = settings;
+    const double contact_modulus = s.materials.contact_modulus();
+    if (s.radius_x == s.radius_y)
+      {
+        const auto h = contact::HertzCircular::solve(s.normal_load, s.radius_x, contact_modulus);
+        hertz        = {h.contact_radius, h.contact_radius, h.peak_pressure, h.approach, true};
+      }
+    else
+      {
+        const auto h = contact::HertzElliptical::solve(s.normal_load, s.radius_x, s.radius_y, contact_modulus);
+        hertz        = {h.semi_axis_x, h.semi_axis_y, h.peak_pressure, h.approach, false};
+      }
+    grid = contact::SurfaceGrid::centred(s.cells_x, s.cells_y, s.half_width_factor * hertz.semi_axis_x,
+                                         s.half_width_factor * hertz.semi_axis_y);
+    build_stress_evaluator();
+  }
+
+  ConcentratedContactScene::~ConcentratedContactScene() = default;
+
+  void ConcentratedContactScene::build_stress_evaluator()
+  {
+    const auto &s = settings;
+    if (s.depth_layers.empty())
+      parameters.reject("Stresses/Depth layers", "expected at least one depth z >= 0 [m] (0 is the surface), got none");
+    try
+      {
+        stresses = contact::make_subsurface_stress(grid, s.depth_layers, s.materials.lower.poisson_ratio,
+                                                   s.stress_evaluator);
+      }
+    catch (const std::invalid_argument &error)
+      {
+        // Settings the patterns cannot judge alone (MLMI levels too deep for
+        // the grid, an odd order) come back from the evaluator.
+        parameters.reject(s.stress_evaluator.method == "mlmi" ? "Stresses/MLMI levels" : "Stresses/Evaluator",
+                          error.what());
+      }
+  }
+
+  void ConcentratedContactScene::read_settings()
   {
     const auto &p = parameters;
     auto       &s = settings;
@@ -155,6 +200,13 @@ namespace fretsim::scenes
     s.normal_max_iterations    = static_cast<int>(p.get_integer("Normal contact/Maximum iterations"));
     s.snapshots_per_cycle      = static_cast<int>(p.get_integer("Output/Field snapshots per cycle"));
     s.snapshot_cycles          = static_cast<int>(p.get_integer("Output/Field output cycles"));
+    s.stress_evaluator.method      = p.get("Stresses/Evaluator");
+    s.stress_evaluator.mlmi_levels = static_cast<int>(p.get_integer("Stresses/MLMI levels"));
+    s.stress_evaluator.mlmi_order  = static_cast<int>(p.get_integer("Stresses/MLMI order"));
+    s.depth_layers                 = p.get_double_list("Stresses/Depth layers");
+    if (s.stress_evaluator.mlmi_order % 2 != 0)
+      p.reject("Stresses/MLMI order", "expected an even order from 2 to 12, got " +
+                                        std::to_string(s.stress_evaluator.mlmi_order));
 
     if (s.snapshots_per_cycle > s.steps_per_cycle || (s.snapshots_per_cycle > 0 && s.steps_per_cycle % s.snapshots_per_cycle != 0))
       p.reject("Output/Field snapshots per cycle",
@@ -178,14 +230,10 @@ namespace fretsim::scenes
     RunReport   report;
     output::Summary stage_times;
 
-    // 1. Hertz solution and the surface grid around it.
-    const double       contact_modulus    = s.materials.contact_modulus();
-    const double       tangential_modulus = s.materials.tangential_modulus();
-    const HertzSummary hertz = hertz_of(s.normal_load, s.radius_x, s.radius_y, contact_modulus);
-    const auto grid = contact::SurfaceGrid::centred(s.cells_x, s.cells_y, s.half_width_factor * hertz.semi_axis_x,
-                                                    s.half_width_factor * hertz.semi_axis_y);
+    const double contact_modulus    = s.materials.contact_modulus();
+    const double tangential_modulus = s.materials.tangential_modulus();
 
-    // 2. Normal contact: pressure, constant during the sliding.
+    // 1. Normal contact: pressure, constant during the sliding.
     auto           stage_start = Clock::now();
     contact::Field pressure    = grid.zeros();
     int            normal_iterations = 0;
@@ -217,6 +265,26 @@ namespace fretsim::scenes
     const double contact_radius = std::sqrt(contact_area / M_PI);
     stage_times.set("normal_contact", seconds_since(stage_start));
 
+    // 2. Subsurface stresses of the pressure, which stays constant: the
+    //    stresses are linear in the loads, so each instant only adds those of
+    //    the current shear traction.
+    stage_start = Clock::now();
+    const contact::Field no_load = grid.zeros();
+    contact::StressField pressure_stress, shear_stress, stress;
+    stresses->evaluate(pressure, no_load, no_load, pressure_stress);
+    const double seconds_of_pressure_stress = seconds_since(stage_start);
+    double       stress_seconds             = seconds_of_pressure_stress;
+    long         stress_evaluations         = 1;
+    auto   evaluate_stress = [&](const contact::Field &shear_x, const contact::Field &shear_y) {
+      const auto start = Clock::now();
+      stresses->evaluate(no_load, shear_x, shear_y, shear_stress);
+      stress = pressure_stress;
+      for (std::size_t k = 0; k < stress.values.size(); ++k)
+        stress.values[k] += shear_stress.values[k];
+      stress_seconds += seconds_since(start);
+      ++stress_evaluations;
+    };
+
     // 3. Bristle traction under harmonic sliding, with the Mindlin–Deresiewicz
     //    loop alongside for the same displacement history.
     const double calibrated_stiffness =
@@ -244,7 +312,7 @@ namespace fretsim::scenes
       x[i] = grid.x(i);
     for (int j = 0; j < grid.ny; ++j)
       y[j] = grid.y(j);
-    results.write_grid(x, y, {0.0});
+    results.write_grid(x, y, s.depth_layers);
     results.set_root_attribute("contact_radius_m", contact_radius);
     for (const auto &[name, unit] : std::vector<std::pair<std::string, std::string>>{
            {"time", "s"}, {"cycle", "1"}, {"displacement_x", "m"}, {"displacement_y", "m"},
@@ -257,6 +325,9 @@ namespace fretsim::scenes
     results.declare_field("shear_y", "Pa", field_shape);
     results.declare_field("effective_friction", "1", field_shape);
     results.declare_field("slip", "1", field_shape);
+    results.declare_field("stress", "Pa", {s.depth_layers.size(), std::size_t(contact::stress_component_count),
+                                           field_shape[0], field_shape[1]});
+    results.set_root_attribute("stress_components", "xx, yy, zz, yz, xz, xy (tension positive, lower body)");
 
     const double direction_x = std::cos(s.sliding_direction), direction_y = std::sin(s.sliding_direction);
     const long   total_steps = static_cast<long>(s.cycles) * s.steps_per_cycle;
@@ -279,8 +350,9 @@ namespace fretsim::scenes
       contact::Field       slip               = grid.zeros();
       for (std::size_t c = 0; c < slip.size(); ++c)
         slip[c] = pressure[c] > 0.0 && effective_friction[c] >= 1.0 - s.slip_tolerance ? 1.0 : 0.0;
+      evaluate_stress(bristles.traction_x(), bristles.traction_y());
       results.append_snapshot(time, {&pressure, &bristles.traction_x(), &bristles.traction_y(),
-                                     &effective_friction, &slip});
+                                     &effective_friction, &slip, &stress.values});
     };
 
     stage_start = Clock::now();
@@ -311,7 +383,8 @@ namespace fretsim::scenes
         progress.update(step, time);
       }
     progress.finish();
-    stage_times.set("traction", seconds_since(stage_start));
+    stage_times.set("traction", seconds_since(stage_start) - (stress_seconds - seconds_of_pressure_stress));
+    stage_times.set("stresses", stress_seconds);
     report.completed = steps_done == total_steps;
 
     // 4. Summary of the run.
@@ -330,6 +403,8 @@ namespace fretsim::scenes
     summary.set("normal_solver_iterations", static_cast<long long>(normal_iterations));
     summary.set("bristle_stiffness_Pa_per_m", stiffness);
     summary.set("mindlin_calibrated_stiffness_Pa_per_m", calibrated_stiffness);
+    summary.set("stress_evaluator", stresses->name());
+    summary.set("stress_evaluations", static_cast<long long>(stress_evaluations));
     summary.set("sliding_amplitude_m", s.sliding_amplitude);
     summary.set("cycles", static_cast<long long>(loop.complete_cycles()));
     summary.set("steps", static_cast<long long>(steps_done));

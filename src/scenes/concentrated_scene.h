@@ -5,7 +5,10 @@
 #include "scenes/scene.h"
 
 #include <fretsim/contact/material.h>
+#include <fretsim/contact/subsurface_stress.h>
 #include <fretsim/contact/surface_grid.h>
+
+#include <memory>
 
 namespace fretsim::scenes
 {
@@ -14,8 +17,11 @@ namespace fretsim::scenes
   public:
     static std::vector<app::ParameterSpec> parameter_specs();
 
-    /// Reads and cross-checks the parameters; throws app::InputError.
+    /// Reads and cross-checks the parameters and builds what the run needs
+    /// that can fail on bad input (grid, stress evaluator); throws
+    /// app::InputError and touches nothing on disk.
     explicit ConcentratedContactScene(app::SceneParameters parameters);
+    ~ConcentratedContactScene() override;
 
     /// Normal contact once, then harmonic sliding cycles with bristle traction;
     /// results.h5 grows step by step, summary.json and figures at the end.
@@ -41,9 +47,26 @@ namespace fretsim::scenes
       double normal_tolerance;
       int    normal_max_iterations;
       int    snapshots_per_cycle, snapshot_cycles;
+      contact::StressEvaluatorSettings stress_evaluator;
+      std::vector<double>              depth_layers; // [m], z = 0 on the surface
     };
+
+    /// The Hertz solution the grid, the bristle calibration and the Mindlin
+    /// reference are built on; circular when Rx == Ry.
+    struct HertzSummary
+    {
+      double semi_axis_x, semi_axis_y, peak_pressure, approach;
+      bool   circular;
+      double equivalent_radius() const;
+    };
+
+    void read_settings();
+    void build_stress_evaluator();
 
     app::SceneParameters parameters;
     Settings             settings;
+    HertzSummary         hertz;
+    contact::SurfaceGrid grid;
+    std::unique_ptr<contact::SubsurfaceStress> stresses;
   };
 } // namespace fretsim::scenes

@@ -19,9 +19,9 @@ namespace fretsim::scenes
     }
   } // namespace
 
-  std::vector<std::string> make_figures(const std::string &output_directory)
+  std::vector<std::string> run_plot_script(const std::string &script_name, const std::vector<std::string> &arguments)
   {
-    const std::string script = std::string(FRETSIM_SOURCE_DIR) + "/scripts/plot_results.py";
+    const std::string script = std::string(FRETSIM_SOURCE_DIR) + "/scripts/" + script_name;
     const std::string python = FRETSIM_PYTHON;
     if (python.empty() || !std::filesystem::exists(script))
       {
@@ -29,8 +29,10 @@ namespace fretsim::scenes
                   << ", not found)\n";
         return {};
       }
-    const std::string command =
-      shell_quote(python) + " " + shell_quote(script) + " " + shell_quote(output_directory) + " 2>&1";
+    std::string command = shell_quote(python) + " " + shell_quote(script);
+    for (const auto &argument : arguments)
+      command += " " + shell_quote(argument);
+    command += " 2>&1";
     std::vector<std::string> figures;
     std::string              messages;
     if (FILE *pipe = popen(command.c_str(), "r"))
@@ -51,5 +53,10 @@ namespace fretsim::scenes
           std::cerr << "fretsim: warning: plotting failed:\n" << messages;
       }
     return figures;
+  }
+
+  std::vector<std::string> make_figures(const std::string &output_directory)
+  {
+    return run_plot_script("plot_results.py", {output_directory});
   }
 } // namespace fretsim::scenes

@@ -2,8 +2,11 @@
 // Scratch files and directories for the application tests.
 #include <filesystem>
 #include <fstream>
+#include <cmath>
+#include <cstdlib>
 #include <regex>
 #include <string>
+#include <sys/wait.h>
 #include <unistd.h>
 #include <utility>
 #include <vector>
@@ -43,5 +46,40 @@ namespace fretsim::test_files
         text = std::regex_replace(text, std::regex("set " + name + " *= *[^\n]*"), "set " + name + " = " + value);
       }
     return text;
+  }
+
+  /// A small, fast variant of the paper scene, with further edits.
+  inline std::string small_scene(const std::vector<std::pair<std::string, std::string>> &extra = {})
+  {
+    std::vector<std::pair<std::string, std::string>> edits{
+      {"Cells x", "32"}, {"Cells y", "32"}, {"Cycles", "3"}, {"Steps per cycle", "40"},
+      {"Field snapshots per cycle", "4"}};
+    edits.insert(edits.end(), extra.begin(), extra.end());
+    return edited_paper_scene(edits);
+  }
+
+  struct Outcome
+  {
+    int         exit_code;
+    std::string output; // stdout and stderr
+  };
+
+  /// Runs build/fretsim with `arguments` and captures its output.
+  inline Outcome run_program(const std::string &arguments)
+  {
+    static int  calls   = 0;
+    const auto  log     = scratch_directory("log-" + std::to_string(calls++)) / "output.txt";
+    const auto  program = std::string(FRETSIM_BINARY_DIR) + "/fretsim";
+    const int   status  = std::system((program + " " + arguments + " > " + log.string() + " 2>&1").c_str());
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(log)};
+  }
+
+  /// A number from summary.json, NaN if the key is missing.
+  inline double summary_number(const std::string &json, const std::string &key)
+  {
+    const auto at = json.find("\"" + key + "\"");
+    if (at == std::string::npos)
+      return std::nan("");
+    return std::strtod(json.c_str() + json.find(':', at) + 1, nullptr);
   }
 } // namespace fretsim::test_files

@@ -84,6 +84,12 @@ TEST(Parameters, OutOfRangeValuesNameParameterAndExpectation)
          {"Normal load      ", "abc", "Normal load", "a number > 0, got 'abc'"},
          {"Pressure model", "fem", "Pressure model", "numerical|hertz"},
          {"Field snapshots per cycle", "7", "Field snapshots per cycle", "divisor"},
+         {"Depth layers", "0, -1e-5", "Stresses/Depth layers", ">= 0, got '0, -1e-5'"},
+         {"Depth layers", "", "Stresses/Depth layers", "at least one depth"},
+         {"Evaluator", "fast", "Stresses/Evaluator", "fft|mlmi|direct"},
+         {"Evaluator", "mlmi\n  set MLMI order = 5", "Stresses/MLMI order", "even"},
+         // 128 cells cannot be coarsened 9 times.
+         {"Evaluator", "mlmi\n  set MLMI levels = 9", "Stresses/MLMI levels", "levels"},
        })
     {
       // Poisson ratio appears twice in the file; the first (lower body) is edited.

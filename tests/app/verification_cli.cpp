@@ -18,41 +18,10 @@
 
 using namespace fretsim;
 
-namespace
-{
-  const std::string program = std::string(FRETSIM_BINARY_DIR) + "/fretsim";
-
-  struct Outcome
-  {
-    int         exit_code;
-    std::string output; // stdout and stderr
-  };
-
-  Outcome run_program(const std::string &arguments)
-  {
-    const auto log = test_files::scratch_directory("cli-log") / "output.txt";
-    const int  status = std::system((program + " " + arguments + " > " + log.string() + " 2>&1").c_str());
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, test_files::read_text(log)};
-  }
-
-  /// A small, fast variant of the paper scene.
-  std::string small_scene(const std::vector<std::pair<std::string, std::string>> &extra = {})
-  {
-    std::vector<std::pair<std::string, std::string>> edits{
-      {"Cells x", "32"}, {"Cells y", "32"}, {"Cycles", "3"}, {"Steps per cycle", "40"},
-      {"Field snapshots per cycle", "4"}};
-    edits.insert(edits.end(), extra.begin(), extra.end());
-    return test_files::edited_paper_scene(edits);
-  }
-
-  double summary_number(const std::string &json, const std::string &key)
-  {
-    const auto at = json.find("\"" + key + "\"");
-    if (at == std::string::npos)
-      return std::nan("");
-    return std::strtod(json.c_str() + json.find(':', at) + 1, nullptr);
-  }
-} // namespace
+const std::string program = std::string(FRETSIM_BINARY_DIR) + "/fretsim";
+using test_files::run_program;
+using test_files::small_scene;
+using test_files::summary_number;
 
 TEST(Cli, VersionHelpAndParams)
 {

@@ -1,0 +1,16 @@
+# FE tests (included from tests/CMakeLists.txt): one executable per file as in
+# every folder, plus the parallel-consistency tests run again under
+# `mpiexec -np 2`, which compare a two-rank run with a one-rank run inside
+# the same job.
+fretsim_add_test_folder(fem fretsim_fem)
+
+set(fretsim_mpi_env "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMPI_MCA_rmaps_base_oversubscribe=1")
+foreach(name unit_parallel_consistency)
+  if(TARGET test_fem_${name})
+    add_test(NAME fem.mpi_np2.${name}
+      COMMAND ${MPIEXEC_EXECUTABLE} ${MPIEXEC_NUMPROC_FLAG} 2 ${MPIEXEC_PREFLAGS}
+              $<TARGET_FILE:test_fem_${name}> ${MPIEXEC_POSTFLAGS})
+    set_tests_properties(fem.mpi_np2.${name} PROPERTIES
+      LABELS unit PROCESSORS 2 ENVIRONMENT "${fretsim_mpi_env}" TIMEOUT 300)
+  endif()
+endforeach()

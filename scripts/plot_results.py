@@ -10,6 +10,11 @@ plotted; a figure whose data is missing is skipped.
                       cycle, with the Mindlin-Deresiewicz loop when stored
   surface_fields.png  pressure, shear, effective friction and stick/slip maps
                       at the last field snapshot
+  risk.png            the paper's Fig. 10-12 view at the instant of largest
+                      sliding displacement in the last cycle: effective
+                      friction, shear in the sliding direction, instantaneous
+                      Dang Van risk D(t) and maximum risk D_max on the layer
+                      where D_max is largest, and D_max against depth
 
 Needs Debian's python3-matplotlib and python3-h5py (run with /usr/bin/python3).
 Exit status: 0 on success, 1 if the results file is missing or unreadable or a
@@ -395,6 +400,124 @@ def plot_surface_fields(f, run, parameters):
     return path, "maps of " + ", ".join(name.replace("_", " ") for name in fields) + " at the last snapshot"
 
 
+def plot_risk(f, run, parameters):
+    needed = ["grid/x", "grid/y", "grid/z", "time", "fields/risk", "fields/risk_max"]
+    missing = [name for name in needed if name not in f]
+    if missing:
+        print(f"note: no risk.png: /{', /'.join(missing)} missing")
+        return None
+    x = np.asarray(f["grid/x"][...], dtype=float)
+    y = np.asarray(f["grid/y"][...], dtype=float)
+    z = np.asarray(f["grid/z"][...], dtype=float)
+    times = np.asarray(f["time"][...], dtype=float)
+    risk = f["fields/risk"]
+    risk_max = np.asarray(f["fields/risk_max"][...], dtype=float)
+    if risk.ndim != 4 or risk.shape[0] == 0 or risk_max.shape != (z.size, y.size, x.size):
+        print("note: no risk.png: risk fields have an unexpected shape")
+        return None
+
+    # The instant: the snapshot of largest sliding displacement (the paper's
+    # "maximum displacement" pictures), found from the time series.
+    snapshot = risk.shape[0] - 1
+    series_time, dx, dy = series(f, "time"), series(f, "displacement_x"), series(f, "displacement_y")
+    displacement_at = None
+    if series_time is not None and dx is not None:
+        dy = dy if dy is not None else np.zeros_like(dx)
+        magnitude = np.hypot(dx, dy)
+        at_snapshots = np.interp(times[:risk.shape[0]], series_time, magnitude)
+        snapshot = int(np.argmax(at_snapshots))
+        displacement_at = at_snapshots[snapshot]
+    finite_max = np.where(np.isfinite(risk_max), risk_max, -np.inf)
+    layer, j_max, i_max = np.unravel_index(int(np.argmax(finite_max)), finite_max.shape)
+    now = np.asarray(risk[snapshot, layer], dtype=float)
+
+    x_edges, y_edges = cell_edges(x) * 1e3, cell_edges(y) * 1e3
+    xc, yc = x * 1e3, y * 1e3
+    pressure = f["fields/pressure"][snapshot] if "fields/pressure" in f else None
+    contact = np.asarray(pressure) > 0 if pressure is not None else None
+
+    fig, axes = plt.subplots(2, 3, figsize=(18, 10.5), constrained_layout=True)
+
+    def decorate(ax, title):
+        ax.set_title(title)
+        ax.set_xlabel("x [mm]")
+        ax.set_ylabel("y [mm]")
+        ax.set_aspect("equal")
+        if contact is not None and contact.any() and not contact.all():
+            ax.contour(xc, yc, contact.astype(float), levels=[0.5], colors="black", linewidths=0.8,
+                       linestyles="--")
+
+    ax = axes[0, 0]
+    if "fields/effective_friction" in f:
+        values = np.ma.masked_invalid(np.asarray(f["fields/effective_friction"][snapshot], dtype=float))
+        if contact is not None:
+            values = np.ma.masked_where(~contact, values)
+        mesh = ax.pcolormesh(x_edges, y_edges, values, cmap="magma", vmin=0, vmax=1, shading="flat")
+        fig.colorbar(mesh, ax=ax, label="τ/(μp) [–]")
+        ax.set_facecolor("0.92")
+    decorate(ax, "effective friction τ/(μp) (1 = slip)")
+
+    ax = axes[0, 1]
+    direction = parameter(parameters, "Loading/Sliding direction") or 0.0
+    if "fields/shear_x" in f and "fields/shear_y" in f:
+        shear = (np.asarray(f["fields/shear_x"][snapshot]) * math.cos(direction) +
+                 np.asarray(f["fields/shear_y"][snapshot]) * math.sin(direction)) * 1e-6
+        limit = float(np.nanmax(np.abs(shear))) or 1.0
+        mesh = ax.pcolormesh(x_edges, y_edges, shear, cmap="RdBu_r", vmin=-limit, vmax=limit, shading="flat")
+        fig.colorbar(mesh, ax=ax, label="shear traction along the sliding [MPa]")
+    decorate(ax, "shear traction in the sliding direction (on the lower body)")
+
+    peak = float(np.nanmax(finite_max))
+    scale = max(peak, 1e-12)
+    ax = axes[0, 2]
+    mesh = ax.pcolormesh(x_edges, y_edges, np.ma.masked_invalid(now), cmap="inferno", vmin=0, vmax=scale,
+                         shading="flat")
+    fig.colorbar(mesh, ax=ax, label="Dang Van risk D(t) [–]")
+    decorate(ax, f"instantaneous risk D(t) at z = {z[layer] * 1e6:.4g} µm")
+
+    ax = axes[1, 0]
+    mesh = ax.pcolormesh(x_edges, y_edges, np.ma.masked_invalid(risk_max[layer]), cmap="inferno", vmin=0,
+                         vmax=scale, shading="flat")
+    fig.colorbar(mesh, ax=ax, label="maximum risk D_max [–]")
+    ax.plot([xc[i_max]], [yc[j_max]], marker="x", color="cyan", markersize=10, mew=2)
+    decorate(ax, f"maximum risk D_max at z = {z[layer] * 1e6:.4g} µm (x: D_max = {peak:.3f})")
+
+    ax = axes[1, 1]
+    # D_max on the plane y = y(max) against x and depth: one row per layer.
+    section = np.ma.masked_invalid(risk_max[:, j_max, :])
+    if z.size > 1:
+        mesh = ax.pcolormesh(x_edges, cell_edges(z) * 1e6 if np.all(np.diff(z) > 0) else np.arange(z.size + 1),
+                             section, cmap="inferno", vmin=0, vmax=scale, shading="flat")
+        ax.invert_yaxis()
+        fig.colorbar(mesh, ax=ax, label="maximum risk D_max [–]")
+        ax.set_ylabel("depth z [µm]" if np.all(np.diff(z) > 0) else "depth layer")
+    else:
+        ax.plot(xc, section[0], color="tab:red")
+        ax.set_ylabel("D_max [–]")
+    ax.set_xlabel("x [mm]")
+    ax.set_title(f"D_max below the surface, section y = {yc[j_max]:.3g} mm (depth layers as cells)")
+
+    ax = axes[1, 2]
+    ax.plot(np.nanmax(np.where(np.isfinite(risk_max), risk_max, np.nan).reshape(z.size, -1), axis=1), z * 1e6,
+            marker="o", color="tab:red")
+    ax.invert_yaxis()
+    ax.set_xlabel("largest D_max on the layer [–]")
+    ax.set_ylabel("depth z [µm]")
+    ax.grid(True, alpha=0.3)
+    ax.set_title("maximum risk against depth")
+
+    heading = f"Dang Van fretting risk at t = {format_number(times[snapshot], 4)} s"
+    if displacement_at is not None:
+        heading += f" (sliding displacement {displacement_at * 1e6:.3g} µm)"
+    heading += f";  D_max = {peak:.3f} at x = {xc[i_max]:.3f} mm, y = {yc[j_max]:.3f} mm, z = {z[layer] * 1e6:.3g} µm"
+    heading += "   (D ≥ 1: crack initiation predicted; dashed: contact edge)"
+    fig.suptitle(heading)
+    path = os.path.join(run.directory, "risk.png")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path, "effective friction, shear, instantaneous and maximum Dang Van risk (paper Fig. 10-12)"
+
+
 # -------------------------------------------------------------------- main
 
 
@@ -415,7 +538,7 @@ def main(argv):
     status = 0
     with f:
         parameters = parse_prm(text_attribute(f.attrs["parameters"])) if "parameters" in f.attrs else {}
-        for make in (plot_loop, plot_surface_fields):
+        for make in (plot_loop, plot_surface_fields, plot_risk):
             try:
                 result = make(f, run, parameters)
             except Exception as error:  # one broken figure must not stop the others

@@ -8,6 +8,7 @@
 #include "scenes/figures.h"
 
 #include <fretsim/contact/bristle.h>
+#include <fretsim/contact/dang_van.h>
 #include <fretsim/contact/fretting_loop.h>
 #include <fretsim/contact/hertz.h>
 #include <fretsim/contact/mindlin.h>
@@ -117,9 +118,26 @@ namespace fretsim::scenes
     specs.push_back(Spec::integer_range("Stresses/MLMI order", "6",
                                         "Even order of the Lagrange interpolation between MLMI levels; the error "
                                         "falls with the order [-].", 2, 12));
+    specs.push_back(Spec::positive("Dang Van/Bending fatigue limit", "690e6",
+                                   "Fully reversed bending (or tension-compression) fatigue limit f-1 of the lower "
+                                   "body's material [Pa]."));
+    specs.push_back(Spec::positive("Dang Van/Torsion fatigue limit", "428e6",
+                                   "Fully reversed torsion fatigue limit t-1 [Pa]; alpha = 3 (t-1/f-1 - 1/2) and "
+                                   "beta = t-1, with f-1/2 <= t-1 <= f-1."));
+    specs.push_back(Spec::selection("Dang Van/Residual stress", "running_mean",
+                                    "Centre of the deviatoric stress path that gives the stabilised residual "
+                                    "stress: running_mean (paper eq. 5, the mean over all steps so far), "
+                                    "last_cycle_mean (the mean over the last complete cycle), hypersphere (Dang "
+                                    "Van's minimum circumscribed hypersphere of the last complete cycle).",
+                                    "running_mean|last_cycle_mean|hypersphere"));
+    specs.push_back(Spec::integer_range("Dang Van/Warm-up cycles", "0",
+                                        "Cycles before the maximum risk starts to accumulate; 0 counts every step, "
+                                        "as the paper does (the per-cycle centres need at least 1) [-].", 0,
+                                        100000));
     specs.push_back(Spec::integer_range("Output/Field snapshots per cycle", "20",
-                                        "Field snapshots (pressure, shear, effective friction, slip and the "
-                                        "stress tensor on the depth layers) written per cycle [-].", 0, 1000000));
+                                        "Field snapshots (pressure, shear, effective friction, slip, the "
+                                        "stress tensor and the Dang Van risk on the depth layers) written per "
+                                        "cycle [-].", 0, 1000000));
     specs.push_back(Spec::integer_range("Output/Field output cycles", "1",
                                         "Snapshots are written for this many final cycles [-].", 0, 100000));
     return specs;
@@ -204,6 +222,24 @@ namespace fretsim::scenes
     s.stress_evaluator.mlmi_levels = static_cast<int>(p.get_integer("Stresses/MLMI levels"));
     s.stress_evaluator.mlmi_order  = static_cast<int>(p.get_integer("Stresses/MLMI order"));
     s.depth_layers                 = p.get_double_list("Stresses/Depth layers");
+    s.bending_fatigue_limit = p.get_double("Dang Van/Bending fatigue limit");
+    s.torsion_fatigue_limit = p.get_double("Dang Van/Torsion fatigue limit");
+    s.residual_stress       = p.get("Dang Van/Residual stress");
+    s.warmup_cycles         = static_cast<int>(p.get_integer("Dang Van/Warm-up cycles"));
+    try
+      {
+        contact::DangVanConstants::from_fatigue_limits(s.bending_fatigue_limit, s.torsion_fatigue_limit);
+      }
+    catch (const std::invalid_argument &error)
+      {
+        p.reject("Dang Van/Torsion fatigue limit", error.what());
+      }
+    if (s.residual_stress != "running_mean" && s.cycles < 2)
+      p.reject("Loading/Cycles", "expected at least 2 with 'Dang Van/Residual stress' = " + s.residual_stress +
+                                   " (the first cycle only defines the centre), got " + std::to_string(s.cycles));
+    if (s.warmup_cycles >= s.cycles)
+      p.reject("Dang Van/Warm-up cycles", "expected fewer than 'Loading/Cycles' (" + std::to_string(s.cycles) +
+                                            "), got " + std::to_string(s.warmup_cycles));
     if (s.stress_evaluator.mlmi_order % 2 != 0)
       p.reject("Stresses/MLMI order", "expected an even order from 2 to 12, got " +
                                         std::to_string(s.stress_evaluator.mlmi_order));
@@ -285,7 +321,25 @@ namespace fretsim::scenes
       ++stress_evaluations;
     };
 
-    // 3. Bristle traction under harmonic sliding, with the Mindlin–Deresiewicz
+    // 3. Dang Van risk on every depth layer, fed the stress of every step.
+    contact::DangVanSettings dang_van_settings;
+    dang_van_settings.centre          = contact::parse_residual_stress_centre(s.residual_stress);
+    dang_van_settings.steps_per_cycle = s.steps_per_cycle;
+    dang_van_settings.warmup_cycles   = s.warmup_cycles;
+    contact::DangVanField risk(s.depth_layers.size() * grid.size(),
+                               contact::DangVanConstants::from_fatigue_limits(s.bending_fatigue_limit,
+                                                                              s.torsion_fatigue_limit),
+                               dang_van_settings);
+    double      dang_van_seconds = 0.0;
+    std::size_t most_infinite    = 0;
+    auto        update_risk      = [&] {
+      const auto start = Clock::now();
+      risk.add_step(stress);
+      most_infinite = std::max(most_infinite, risk.infinite_risk_count());
+      dang_van_seconds += seconds_since(start);
+    };
+
+    // 4. Bristle traction under harmonic sliding, with the Mindlin–Deresiewicz
     //    loop alongside for the same displacement history.
     const double calibrated_stiffness =
       contact::BristleTraction::mindlin_stiffness(tangential_modulus, hertz.equivalent_radius());
@@ -328,6 +382,7 @@ namespace fretsim::scenes
     results.declare_field("stress", "Pa", {s.depth_layers.size(), std::size_t(contact::stress_component_count),
                                            field_shape[0], field_shape[1]});
     results.set_root_attribute("stress_components", "xx, yy, zz, yz, xz, xy (tension positive, lower body)");
+    results.declare_field("risk", "1", {s.depth_layers.size(), field_shape[0], field_shape[1]});
 
     const double direction_x = std::cos(s.sliding_direction), direction_y = std::sin(s.sliding_direction);
     const long   total_steps = static_cast<long>(s.cycles) * s.steps_per_cycle;
@@ -350,9 +405,8 @@ namespace fretsim::scenes
       contact::Field       slip               = grid.zeros();
       for (std::size_t c = 0; c < slip.size(); ++c)
         slip[c] = pressure[c] > 0.0 && effective_friction[c] >= 1.0 - s.slip_tolerance ? 1.0 : 0.0;
-      evaluate_stress(bristles.traction_x(), bristles.traction_y());
       results.append_snapshot(time, {&pressure, &bristles.traction_x(), &bristles.traction_y(),
-                                     &effective_friction, &slip, &stress.values});
+                                     &effective_friction, &slip, &stress.values, &risk.risk()});
     };
 
     stage_start = Clock::now();
@@ -375,6 +429,8 @@ namespace fretsim::scenes
                                                            previous_displacement, reversed_before) :
                     0.0;
         loop.add(displacement, write_row(step, displacement, reference_force));
+        evaluate_stress(bristles.traction_x(), bristles.traction_y());
+        update_risk();
         if (snapshot_interval > 0 && step >= first_snapshot_step && step % snapshot_interval == 0)
           write_snapshot(time);
         results.flush();
@@ -383,11 +439,29 @@ namespace fretsim::scenes
         progress.update(step, time);
       }
     progress.finish();
-    stage_times.set("traction", seconds_since(stage_start) - (stress_seconds - seconds_of_pressure_stress));
+    stage_times.set("traction_and_output",
+                    seconds_since(stage_start) - (stress_seconds - seconds_of_pressure_stress) - dang_van_seconds);
     stage_times.set("stresses", stress_seconds);
+    stage_times.set("dang_van", dang_van_seconds);
+
+    // The maximum risk and where it sits.
+    const std::vector<double> &risk_max = risk.risk_max();
+    results.write_dataset("/fields/risk_max", "1", {s.depth_layers.size(), field_shape[0], field_shape[1]}, risk_max);
+    std::size_t worst = 0;
+    for (std::size_t point = 0; point < risk_max.size(); ++point)
+      if (std::isfinite(risk_max[point]) && !(risk_max[point] <= risk_max[worst]))
+        worst = point;
+    const std::size_t worst_layer = worst / grid.size(), worst_cell = worst % grid.size();
+    const int         worst_i = static_cast<int>(worst_cell % grid.nx), worst_j = static_cast<int>(worst_cell / grid.nx);
+    const std::size_t infinite_max = risk.infinite_risk_max_count();
+    if (infinite_max > 0)
+      std::cerr << "fretsim: warning: " << infinite_max << " of " << risk_max.size()
+                << " points reached beta - alpha sigma_H <= 0 (hydrostatic tension beyond the Dang Van line): "
+                   "their risk is infinite in /fields/risk_max and left out of risk_max\n";
     report.completed = steps_done == total_steps;
 
-    // 4. Summary of the run.
+    // 5. Summary of the run.
+    const double    nan = std::numeric_limits<double>::quiet_NaN();
     output::Summary summary;
     summary.set("scene", std::string("concentrated"));
     summary.set("config_file", parameters.file());
@@ -405,10 +479,15 @@ namespace fretsim::scenes
     summary.set("mindlin_calibrated_stiffness_Pa_per_m", calibrated_stiffness);
     summary.set("stress_evaluator", stresses->name());
     summary.set("stress_evaluations", static_cast<long long>(stress_evaluations));
+    summary.set("risk_max", risk_max.empty() ? nan : risk_max[worst]);
+    summary.set("risk_max_location_m", std::vector<double>{grid.x(worst_i), grid.y(worst_j), s.depth_layers[worst_layer]});
+    summary.set("risk_max_depth_m", s.depth_layers[worst_layer]);
+    summary.set("risk_max_time_s", (risk.risk_max_step()[worst] + 1) * time_step);
+    summary.set("risk_infinite_points", static_cast<long long>(infinite_max));
+    summary.set("residual_stress_centre", s.residual_stress);
     summary.set("sliding_amplitude_m", s.sliding_amplitude);
     summary.set("cycles", static_cast<long long>(loop.complete_cycles()));
     summary.set("steps", static_cast<long long>(steps_done));
-    const double nan = std::numeric_limits<double>::quiet_NaN();
     if (mindlin)
       {
         summary.set("gross_slip_displacement_m", mindlin->gross_slip_displacement());

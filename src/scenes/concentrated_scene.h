@@ -49,6 +49,9 @@ namespace fretsim::scenes
       int    snapshots_per_cycle, snapshot_cycles;
       contact::StressEvaluatorSettings stress_evaluator;
       std::vector<double>              depth_layers; // [m], z = 0 on the surface
+      double      bending_fatigue_limit, torsion_fatigue_limit; // f-1, t-1 [Pa]
+      std::string residual_stress;                              // Dang Van centre
+      int         warmup_cycles;
     };
 
     /// The Hertz solution the grid, the bristle calibration and the Mindlin

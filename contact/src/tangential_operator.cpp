@@ -1,0 +1,208 @@
+#include "tangential_operator.h"
+
+#include <fretsim/contact/rectangle_kernels.h>
+
+#include <fftw3.h>
+
+#include <algorithm>
+#include <complex>
+#include <mutex>
+#include <new>
+#include <stdexcept>
+
+namespace fretsim::contact::detail
+{
+  namespace
+  {
+    // The FFTW planner is not thread safe. This mutex serialises the planning
+    // done here; convolution.cpp keeps its own (see the report of issue 5: a
+    // shared planner lock would be cleaner).
+    std::mutex &planner_mutex()
+    {
+      static std::mutex mutex;
+      return mutex;
+    }
+
+    struct FftwFree
+    {
+      void operator()(void *pointer) const { fftw_free(pointer); }
+    };
+
+    template <typename T>
+    std::unique_ptr<T[], FftwFree> fftw_array(std::size_t n);
+
+    template <>
+    std::unique_ptr<double[], FftwFree> fftw_array<double>(std::size_t n)
+    {
+      double *pointer = fftw_alloc_real(n);
+      if (!pointer)
+        throw std::bad_alloc();
+      return std::unique_ptr<double[], FftwFree>(pointer);
+    }
+
+    template <>
+    std::unique_ptr<fftw_complex[], FftwFree> fftw_array<fftw_complex>(std::size_t n)
+    {
+      fftw_complex *pointer = fftw_alloc_complex(n);
+      if (!pointer)
+        throw std::bad_alloc();
+      return std::unique_ptr<fftw_complex[], FftwFree>(pointer);
+    }
+
+    SurfaceDisplacement add(const SurfaceDisplacement &a, const SurfaceDisplacement &b)
+    {
+      return {a.x + b.x, a.y + b.y, a.z + b.z};
+    }
+  } // namespace
+
+  double TangentialKernel::xx(int di, int dj) const
+  {
+    const auto &l = materials.lower, &u = materials.upper;
+    const double x = di * hx, y = dj * hy;
+    return add(rectangle_displacement_shear_x(x, y, 0.5 * hx, 0.5 * hy, l.shear_modulus(), l.poisson_ratio),
+               rectangle_displacement_shear_x(x, y, 0.5 * hx, 0.5 * hy, u.shear_modulus(), u.poisson_ratio))
+      .x;
+  }
+
+  double TangentialKernel::xy(int di, int dj) const
+  {
+    const auto &l = materials.lower, &u = materials.upper;
+    const double x = di * hx, y = dj * hy;
+    return add(rectangle_displacement_shear_x(x, y, 0.5 * hx, 0.5 * hy, l.shear_modulus(), l.poisson_ratio),
+               rectangle_displacement_shear_x(x, y, 0.5 * hx, 0.5 * hy, u.shear_modulus(), u.poisson_ratio))
+      .y;
+  }
+
+  double TangentialKernel::yy(int di, int dj) const
+  {
+    const auto &l = materials.lower, &u = materials.upper;
+    const double x = di * hx, y = dj * hy;
+    return add(rectangle_displacement_shear_y(x, y, 0.5 * hx, 0.5 * hy, l.shear_modulus(), l.poisson_ratio),
+               rectangle_displacement_shear_y(x, y, 0.5 * hx, 0.5 * hy, u.shear_modulus(), u.poisson_ratio))
+      .y;
+  }
+
+  struct BlockConvolution::Buffers
+  {
+    std::size_t padded_size   = 0; ///< 2mx * 2my real values
+    std::size_t spectrum_size = 0; ///< 2my * (mx + 1) complex values (r2c keeps half of x)
+
+    std::unique_ptr<double[], FftwFree>       real_x, real_y;
+    std::unique_ptr<fftw_complex[], FftwFree> spectrum_x, spectrum_y;
+    /// Real transforms of the xx, xy, yy kernels, divided by the padded size.
+    std::vector<double> kernel_xx, kernel_xy, kernel_yy;
+
+    fftw_plan forward  = nullptr;
+    fftw_plan backward = nullptr;
+
+    ~Buffers()
+    {
+      std::lock_guard<std::mutex> lock(planner_mutex());
+      if (forward)
+        fftw_destroy_plan(forward);
+      if (backward)
+        fftw_destroy_plan(backward);
+    }
+  };
+
+  BlockConvolution::BlockConvolution(int mx, int my, const TangentialKernel &kernel, bool measure_plans)
+    : mx(mx)
+    , my(my)
+    , buffers(std::make_unique<Buffers>())
+  {
+    if (mx <= 0 || my <= 0)
+      throw std::invalid_argument("BlockConvolution: empty window");
+    Buffers &b      = *buffers;
+    const int px = 2 * mx, py = 2 * my;
+    b.padded_size   = static_cast<std::size_t>(px) * py;
+    b.spectrum_size = static_cast<std::size_t>(py) * (mx + 1);
+    b.real_x        = fftw_array<double>(b.padded_size);
+    b.real_y        = fftw_array<double>(b.padded_size);
+    b.spectrum_x    = fftw_array<fftw_complex>(b.spectrum_size);
+    b.spectrum_y    = fftw_array<fftw_complex>(b.spectrum_size);
+    {
+      // FFTW_MEASURE overwrites the arrays while planning: plan first.
+      std::lock_guard<std::mutex> lock(planner_mutex());
+      const unsigned flags = measure_plans ? FFTW_MEASURE : FFTW_ESTIMATE;
+      b.forward  = fftw_plan_dft_r2c_2d(py, px, b.real_x.get(), b.spectrum_x.get(), flags);
+      b.backward = fftw_plan_dft_c2r_2d(py, px, b.spectrum_x.get(), b.real_x.get(), flags);
+    }
+    if (!b.forward || !b.backward)
+      throw std::runtime_error("BlockConvolution: FFTW could not create the plans");
+
+    // Wrap-around order: offsets 0..m-1 at 0..m-1, -(m-1)..-1 at m+1..2m-1,
+    // index m (reached by no offset) zero.
+    auto transform = [&](auto &&coefficient, std::vector<double> &result) {
+      double *padded = b.real_x.get();
+      std::fill(padded, padded + b.padded_size, 0.0);
+      for (int jj = 0; jj < py; ++jj)
+        {
+          if (jj == my)
+            continue;
+          const int dj = jj < my ? jj : jj - py;
+          for (int ii = 0; ii < px; ++ii)
+            {
+              if (ii == mx)
+                continue;
+              const int di = ii < mx ? ii : ii - px;
+              padded[static_cast<std::size_t>(jj) * px + ii] = coefficient(di, dj);
+            }
+        }
+      fftw_execute_dft_r2c(b.forward, padded, b.spectrum_x.get());
+      // The kernel is even, so its transform is real up to round-off.
+      const double scale = 1.0 / static_cast<double>(b.padded_size);
+      result.resize(b.spectrum_size);
+      for (std::size_t n = 0; n < b.spectrum_size; ++n)
+        result[n] = b.spectrum_x[n][0] * scale;
+    };
+    transform([&](int di, int dj) { return kernel.xx(di, dj); }, b.kernel_xx);
+    transform([&](int di, int dj) { return kernel.xy(di, dj); }, b.kernel_xy);
+    transform([&](int di, int dj) { return kernel.yy(di, dj); }, b.kernel_yy);
+    clear();
+  }
+
+  BlockConvolution::~BlockConvolution() = default;
+
+  void BlockConvolution::clear()
+  {
+    std::fill(buffers->real_x.get(), buffers->real_x.get() + buffers->padded_size, 0.0);
+    std::fill(buffers->real_y.get(), buffers->real_y.get() + buffers->padded_size, 0.0);
+  }
+
+  double *BlockConvolution::input_x() { return buffers->real_x.get(); }
+  double *BlockConvolution::input_y() { return buffers->real_y.get(); }
+  const double *BlockConvolution::output_x() const { return buffers->real_x.get(); }
+  const double *BlockConvolution::output_y() const { return buffers->real_y.get(); }
+
+  void BlockConvolution::execute()
+  {
+    Buffers &b = *buffers;
+    fftw_execute_dft_r2c(b.forward, b.real_x.get(), b.spectrum_x.get());
+    fftw_execute_dft_r2c(b.forward, b.real_y.get(), b.spectrum_y.get());
+    fftw_complex *sx = b.spectrum_x.get(), *sy = b.spectrum_y.get();
+    const double *kxx = b.kernel_xx.data(), *kxy = b.kernel_xy.data(), *kyy = b.kernel_yy.data();
+    for (std::size_t n = 0; n < b.spectrum_size; ++n)
+      {
+        const double tx_re = sx[n][0], tx_im = sx[n][1], ty_re = sy[n][0], ty_im = sy[n][1];
+        sx[n][0] = kxx[n] * tx_re + kxy[n] * ty_re;
+        sx[n][1] = kxx[n] * tx_im + kxy[n] * ty_im;
+        sy[n][0] = kxy[n] * tx_re + kyy[n] * ty_re;
+        sy[n][1] = kxy[n] * tx_im + kyy[n] * ty_im;
+      }
+    fftw_execute_dft_c2r(b.backward, b.spectrum_x.get(), b.real_x.get());
+    fftw_execute_dft_c2r(b.backward, b.spectrum_y.get(), b.real_y.get());
+  }
+
+  int fft_friendly_size(int m)
+  {
+    for (int candidate = std::max(m, 1);; ++candidate)
+      {
+        int rest = 2 * candidate;
+        for (const int prime : {2, 3, 5, 7})
+          while (rest % prime == 0)
+            rest /= prime;
+        if (rest == 1)
+          return candidate;
+      }
+  }
+} // namespace fretsim::contact::detail

@@ -85,6 +85,9 @@ TEST(Parameters, OutOfRangeValuesNameParameterAndExpectation)
          {"Pressure model", "fem", "Pressure model", "numerical|hertz"},
          {"Field snapshots per cycle", "7", "Field snapshots per cycle", "divisor"},
          {"Depth layers", "0, -1e-5", "Stresses/Depth layers", ">= 0, got '0, -1e-5'"},
+         // Torsion limit above the bending limit: almost surely swapped.
+         {"Torsion fatigue limit", "700e6", "Dang Van/Torsion fatigue limit", "swapped"},
+         {"Warm-up cycles", "8", "Dang Van/Warm-up cycles", "fewer than"},
          {"Depth layers", "", "Stresses/Depth layers", "at least one depth"},
          {"Evaluator", "fast", "Stresses/Evaluator", "fft|mlmi|direct"},
          {"Evaluator", "mlmi\n  set MLMI order = 5", "Stresses/MLMI order", "even"},
@@ -99,6 +102,16 @@ TEST(Parameters, OutOfRangeValuesNameParameterAndExpectation)
       EXPECT_NE(message.find(c.expectation), std::string::npos) << message;
       EXPECT_EQ(message.find('\n'), std::string::npos) << "one line: " << message;
     }
+}
+
+TEST(Parameters, PerCycleResidualStressNeedsTwoCycles)
+{
+  // The first cycle only defines the centre of the per-cycle options.
+  const std::string message =
+    load_error(test_files::edited_paper_scene({{"Residual stress", "hypersphere"}, {"Cycles", "1"}}));
+  EXPECT_NE(message.find("Loading/Cycles"), std::string::npos) << message;
+  EXPECT_NE(message.find("at least 2"), std::string::npos) << message;
+  EXPECT_EQ(load_error(test_files::edited_paper_scene({{"Residual stress", "hypersphere"}, {"Cycles", "2"}})), "");
 }
 
 TEST(Parameters, MissingFileAndUnknownSceneAreInputErrors)

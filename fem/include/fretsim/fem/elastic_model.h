@@ -1,0 +1,196 @@
+#pragma once
+// Linear elasticity of ring and housing (DESIGN.md §3): FE_Q of degree 1 or 2
+// per displacement component on a distributed mesh, with a mapping of the same
+// degree so curved surfaces converge at the element's rate; stiffness K and
+// mass M as PETSc matrices; static solutions and eigenmodes. SI units.
+//
+// Call order: construct (DoFs, constraints and K are set up), then any number
+// of solve_static() / solve_modes() calls. All calls are collective over the
+// mesh's ranks. No deal.II, PETSc or MPI type appears here; reduction/ gets
+// the PETSc matrices through the forward-declared handles below (as MFEM does
+// for SLEPc), and only its sources include PETSc.
+#include <fretsim/fem/mesh.h>
+
+#include <array>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+struct _p_Mat; // PETSc's Mat is a pointer to this
+
+namespace fretsim::fem
+{
+  /// Isotropic linear elastic material.
+  struct Material
+  {
+    double youngs_modulus = 0.0; ///< E [Pa]
+    double poisson_ratio  = 0.0; ///< ν [-]
+    double density        = 0.0; ///< ρ [kg/m³]
+  };
+
+  /// Zero displacement of the chosen Cartesian components on a boundary (a
+  /// clamp, or a symmetry plane normal to x, y or z).
+  struct Support
+  {
+    BoundaryId boundary;
+    bool       fix_x = true;
+    bool       fix_y = true;
+    bool       fix_z = true;
+  };
+
+  /// Uniform pressure on a boundary [Pa]; positive pushes into the body
+  /// (traction t = -p n).
+  struct PressureLoad
+  {
+    BoundaryId boundary;
+    double     pressure = 0.0;
+  };
+
+  /// In-plane isotropic expansion eigenstrain ε* = e (e_x⊗e_x + e_y⊗e_y) of
+  /// one body. A ring bonded in a housing with e = δ/R is, in linear theory,
+  /// exactly the ring with radial interference δ at the interface radius R
+  /// pressed into the housing: the free ring would expand by u = e·(x, y, 0)
+  /// without stress, so the bond imposes the displacement jump δ e_r at R.
+  /// Displacements reported for that body include the free expansion.
+  struct InPlaneExpansion
+  {
+    MaterialId body;
+    double     strain = 0.0; ///< e [-]
+  };
+
+  struct StaticLoad
+  {
+    std::vector<PressureLoad>     pressures;
+    std::vector<InPlaneExpansion> expansions;
+  };
+
+  enum class LinearSolver
+  {
+    direct, ///< MUMPS Cholesky: exact, for small and medium models
+    cg_amg, ///< PETSc CG preconditioned with hypre BoomerAMG
+  };
+
+  struct SolverSettings
+  {
+    LinearSolver type               = LinearSolver::direct;
+    double       relative_tolerance = 1e-10; ///< CG: ‖B r‖ ≤ tol ‖B f‖ (B = the AMG)
+    unsigned int max_iterations     = 5000;
+  };
+
+  /// Wall-clock seconds of the stages so far, and the last iteration count.
+  struct Timings
+  {
+    double       setup_dofs         = 0.0;
+    double       assemble_stiffness = 0.0;
+    double       assemble_mass      = 0.0;
+    double       assemble_load      = 0.0;
+    double       solve              = 0.0;
+    unsigned int iterations         = 0;
+  };
+
+  /// Area-weighted means over a surface, in cylindrical components about the
+  /// z axis (r, θ, z): displacement [m] and stress [Pa].
+  struct CylindricalAverage
+  {
+    double area = 0.0; ///< [m²]
+    double u_r = 0.0, u_theta = 0.0, u_z = 0.0;
+    double s_rr = 0.0, s_tt = 0.0, s_zz = 0.0, s_rt = 0.0, s_rz = 0.0, s_tz = 0.0;
+  };
+
+  using Point3  = std::array<double, 3>;
+  using Vector3 = std::array<double, 3>;
+
+  /// A displacement solution (static state or mode shape) on the model's mesh.
+  /// Keeps the model's discretisation alive.
+  class DisplacementField
+  {
+  public:
+    ~DisplacementField();
+    DisplacementField(DisplacementField &&) noexcept;
+    DisplacementField &operator=(DisplacementField &&) noexcept;
+
+    /// ½ uᵀ K u [J] (the field's elastic energy when there is no eigenstrain).
+    double strain_energy() const;
+    /// Mean displacement and stress over a boundary, stresses taken from the
+    /// cells at the faces' quadrature points.
+    CylindricalAverage average_on_boundary(BoundaryId boundary) const;
+    /// The same over the interface between two bodies, stresses evaluated in
+    /// the cells of `evaluated_in` (the traction is continuous across, the
+    /// other stress components need not be).
+    CylindricalAverage average_on_interface(MaterialId evaluated_in, MaterialId neighbour) const;
+    /// ‖u - u_exact‖ in L2 over the body [m·m^(3/2)], with a Gauss rule of
+    /// degree+2 points per direction.
+    double l2_error(const std::function<Vector3(const Point3 &)> &exact) const;
+    /// Share of uᵀ M u in the x, y and z components (needs the mass matrix;
+    /// tells in-plane modes (z share ≈ 0) from out-of-plane ones).
+    Vector3 mass_fractions() const;
+    /// ParaView output: `<directory>/<name>.pvtu` with its pieces (displacement).
+    void write_vtu(const std::string &directory, const std::string &name) const;
+
+    struct Impl;
+    const Impl &impl() const { return *pimpl; }
+    explicit DisplacementField(std::unique_ptr<Impl> impl);
+
+  private:
+    std::unique_ptr<Impl> pimpl;
+  };
+
+  struct ModalSettings
+  {
+    unsigned int n_modes = 10; ///< elastic modes wanted (rigid-body modes come on top)
+    /// Shift-and-invert target σ = -(2π f_shift)²: negative, so that K - σM is
+    /// positive definite even for a free body, and small, so that the modes
+    /// nearest to it are the lowest ones [Hz].
+    double shift_hz = 10.0;
+    /// Modes below this frequency are rigid-body modes (round-off makes their
+    /// eigenvalues tiny instead of zero) [Hz].
+    double rigid_body_cutoff_hz = 1.0;
+    double tolerance            = 1e-10; ///< relative eigen-residual
+  };
+
+  struct ModalSolution
+  {
+    std::vector<double>            frequencies_hz;       ///< elastic modes, ascending
+    std::vector<DisplacementField> shapes;               ///< mass-normalised: φᵀ M φ = 1
+    unsigned int                   n_rigid_body_modes = 0; ///< found below the cutoff
+    double                         seconds            = 0.0;
+  };
+
+  class ElasticModel
+  {
+  public:
+    /// `materials` must cover every material id of the mesh; `degree` is 1 or 2.
+    /// Supports act as zero-displacement constraints in K, M and every solve.
+    ElasticModel(std::shared_ptr<const Mesh> mesh, const std::map<MaterialId, Material> &materials,
+                 unsigned int degree, const std::vector<Support> &supports = {});
+    ~ElasticModel();
+    ElasticModel(ElasticModel &&) noexcept;
+    ElasticModel &operator=(ElasticModel &&) noexcept;
+
+    unsigned long  n_dofs() const;
+    unsigned int   degree() const;
+    const Timings &timings() const;
+
+    /// Assembles the load, solves K u = f and applies the constraints.
+    DisplacementField solve_static(const StaticLoad &load, const SolverSettings &settings = {});
+
+    /// Lowest eigenmodes of K φ = ω² M φ by SLEPc Krylov–Schur with
+    /// shift-and-invert (MUMPS inside). Constrained DoFs have a zero row and
+    /// column in M and a unit-scale diagonal in K, i.e. infinite eigenvalues,
+    /// so they never show up among the lowest modes (the issue of step-36).
+    ModalSolution solve_modes(const ModalSettings &settings = {});
+
+    /// The assembled PETSc matrices (owned by the model), for reduction/.
+    /// The mass matrix is assembled on first use.
+    _p_Mat *petsc_stiffness();
+    _p_Mat *petsc_mass();
+
+    struct Impl;
+    Impl &impl() { return *pimpl; }
+
+  private:
+    std::shared_ptr<Impl> pimpl;
+  };
+} // namespace fretsim::fem

@@ -1,0 +1,126 @@
+// Static solutions: assemble the load, solve K u = f, apply the constraints.
+#include "model_impl.h"
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/lac/petsc_precondition.h>
+#include <deal.II/lac/petsc_solver.h>
+#include <deal.II/lac/solver_control.h>
+
+namespace fretsim::fem
+{
+  namespace
+  {
+    using Clock = std::chrono::steady_clock;
+
+    dealii::PETScWrappers::MPI::Vector assemble_load(const ElasticModel::Impl &model, const StaticLoad &load)
+    {
+      dealii::PETScWrappers::MPI::Vector rhs(model.owned_dofs, model.communicator());
+      const unsigned int                 n = model.fe.n_dofs_per_cell();
+      dealii::Vector<double>             cell_rhs(n);
+      std::vector<dealii::types::global_dof_index> dof_indices(n);
+
+      std::map<unsigned int, double> pressure_on, expansion_of;
+      for (const PressureLoad &p : load.pressures)
+        pressure_on[static_cast<unsigned int>(p.boundary)] += p.pressure;
+      for (const InPlaneExpansion &e : load.expansions)
+        expansion_of[static_cast<unsigned int>(e.body)] += e.strain;
+
+      const dealii::QGauss<3>   quadrature(model.degree + 1);
+      const dealii::QGauss<2>   face_quadrature(model.degree + 1);
+      dealii::FEValues<3>       fe_values(model.mapping, model.fe, quadrature,
+                                          dealii::update_gradients | dealii::update_JxW_values);
+      dealii::FEFaceValues<3>   fe_face_values(model.mapping, model.fe, face_quadrature,
+                                               dealii::update_values | dealii::update_normal_vectors |
+                                                 dealii::update_JxW_values);
+      for (const auto &cell : model.dof_handler.active_cell_iterators())
+        {
+          if (!cell->is_locally_owned())
+            continue;
+          cell_rhs = 0.0;
+          bool loaded = false;
+
+          // Eigenstrain: f_i = ∫ (C:ε*) : ∇φ_i, with C:ε* = e (2λ I + 2μ (I - e_z⊗e_z)).
+          if (const auto e = expansion_of.find(cell->material_id()); e != expansion_of.end())
+            {
+              const Lame  &m = model.material(cell->material_id());
+              const double s_in_plane = 2.0 * (m.lambda + m.mu) * e->second, s_axial = 2.0 * m.lambda * e->second;
+              fe_values.reinit(cell);
+              for (unsigned int q = 0; q < quadrature.size(); ++q)
+                for (unsigned int i = 0; i < n; ++i)
+                  {
+                    const unsigned int c = model.fe.system_to_component_index(i).first;
+                    cell_rhs(i) += (c == 2 ? s_axial : s_in_plane) * fe_values.shape_grad(i, q)[c] * fe_values.JxW(q);
+                  }
+              loaded = true;
+            }
+
+          for (unsigned int f = 0; f < cell->n_faces(); ++f)
+            {
+              if (!cell->face(f)->at_boundary())
+                continue;
+              const auto p = pressure_on.find(cell->face(f)->boundary_id());
+              if (p == pressure_on.end())
+                continue;
+              fe_face_values.reinit(cell, f);
+              for (unsigned int q = 0; q < face_quadrature.size(); ++q)
+                for (unsigned int i = 0; i < n; ++i)
+                  {
+                    const unsigned int c = model.fe.system_to_component_index(i).first;
+                    cell_rhs(i) -= p->second * fe_face_values.normal_vector(q)[c] *
+                                   fe_face_values.shape_value(i, q) * fe_face_values.JxW(q);
+                  }
+              loaded = true;
+            }
+          if (!loaded)
+            continue;
+          cell->get_dof_indices(dof_indices);
+          model.constraints.distribute_local_to_global(cell_rhs, dof_indices, rhs);
+        }
+      rhs.compress(dealii::VectorOperation::add);
+      return rhs;
+    }
+
+    unsigned int solve(const ElasticModel::Impl &model, const dealii::PETScWrappers::MPI::Vector &rhs,
+                       dealii::PETScWrappers::MPI::Vector &solution, const SolverSettings &settings)
+    {
+      if (settings.type == LinearSolver::direct)
+        {
+          dealii::SolverControl                    control(1, 0.0);
+          dealii::PETScWrappers::SparseDirectMUMPS solver(control, model.communicator());
+          solver.set_symmetric_mode(true);
+          solver.solve(model.stiffness, solution, rhs);
+          return 1;
+        }
+      // PETSc's CG measures the preconditioned residual ‖B r‖, whose scale
+      // the AMG sets; a reduction relative to the first one is what tells.
+      dealii::ReductionControl control(settings.max_iterations, 1e-300, settings.relative_tolerance);
+      dealii::PETScWrappers::SolverCG solver(control, model.communicator());
+      dealii::PETScWrappers::PreconditionBoomerAMG::AdditionalData amg;
+      amg.symmetric_operator = true;
+      amg.strong_threshold   = 0.5; // hypre's advice for 3-D problems
+      dealii::PETScWrappers::PreconditionBoomerAMG preconditioner(model.stiffness, amg);
+      solver.solve(model.stiffness, solution, rhs, preconditioner);
+      return control.last_step();
+    }
+  } // namespace
+
+  DisplacementField ElasticModel::solve_static(const StaticLoad &load, const SolverSettings &settings)
+  {
+    auto       &model = *pimpl;
+    const auto  start = Clock::now();
+    const auto  rhs   = assemble_load(model, load);
+    model.timings.assemble_load = seconds_since(start);
+
+    const auto                         solve_start = Clock::now();
+    dealii::PETScWrappers::MPI::Vector solution(model.owned_dofs, model.communicator());
+    model.timings.iterations = solve(model, rhs, solution, settings);
+    model.timings.solve      = seconds_since(solve_start);
+
+    auto field          = std::make_unique<DisplacementField::Impl>();
+    field->model        = pimpl;
+    field->displacement = model.ghosted(std::move(solution));
+    field->expansions   = load.expansions;
+    return DisplacementField(std::move(field));
+  }
+} // namespace fretsim::fem

@@ -1,6 +1,7 @@
 #include "app/cli.h"
 
 #include "app/build_info.h"
+#include "app/compare_traction.h"
 #include "app/parameters.h"
 #include "app/run_control.h"
 #include "app/stress_benchmark.h"
@@ -80,6 +81,15 @@ namespace fretsim::app
     run->add_flag("-q,--quiet", quiet, "No progress line");
     auto *params = app.add_subcommand("params", "Print every parameter of a scene: default, allowed values, unit");
     params->add_option("SCENE", scene, "Scene name (default: all scenes)");
+    CompareTractionOptions compare;
+    auto *compare_traction = app.add_subcommand(
+      "compare-traction", "Run a scene with each traction model (bristle, elastoplastic bristle, exact) and "
+                          "report run time, loop, energy and D_max differences against the exact model");
+    compare_traction->add_option("CONFIG", compare.config_file, "Scene file (.prm or .json)")->required();
+    compare_traction->add_option("-o,--output", compare.output_directory,
+                                 "Output directory (default: results/<config name>-traction)");
+    compare_traction->add_flag("--no-plots", no_plots, "Do not write the PNG figure");
+    compare_traction->add_flag("-q,--quiet", quiet, "No progress line");
     auto *bench = app.add_subcommand("bench", "Error against run time of the numerical approximations");
     bench->require_subcommand(1);
     StressBenchmarkOptions stress_bench;
@@ -109,6 +119,16 @@ namespace fretsim::app
       {
         if (*run)
           return run_scene(config_file, output_directory, !no_plots, quiet);
+        if (*compare_traction)
+          {
+            compare.plots    = !no_plots;
+            compare.progress = !quiet;
+            install_interrupt_handlers();
+            for (const auto &file : run_traction_comparison(compare))
+              std::cout << (file.size() > 4 && file.substr(file.size() - 4) == ".png" ? "figure:   " : "table:    ")
+                        << std::filesystem::absolute(file).string() << "\n";
+            return exit_ok;
+          }
         if (*bench_stresses)
           {
             stress_bench.plots = !no_plots;

@@ -296,6 +296,22 @@ namespace fretsim::app
         throw InputError(path, "", one_line(error.what()));
       }
 
+    validate();
+  }
+
+  void SceneParameters::set(const std::string &path, const std::string &value)
+  {
+    if (!impl->patterns.count(path))
+      throw InputError(file_name.empty() ? "(defaults)" : file_name, path, "no such parameter");
+    impl->at(path, [&](const std::string &name) {
+      impl->handler.set(name, value);
+      return 0;
+    });
+    validate();
+  }
+
+  void SceneParameters::validate() const
+  {
     for (const auto &spec : spec_table)
       {
         const std::string value = get(spec.path);

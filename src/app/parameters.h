@@ -57,6 +57,9 @@ namespace fretsim::app
 
     /// Reads and validates a .prm or .json file; throws InputError.
     void parse_file(const std::string &path);
+    /// Overrides one parameter (e.g. from the command line) and validates
+    /// again; throws InputError naming the parameter.
+    void set(const std::string &path, const std::string &value);
 
     double              get_double(const std::string &path) const;
     long                get_integer(const std::string &path) const;
@@ -82,6 +85,8 @@ namespace fretsim::app
                                      const std::vector<std::string> &known_scenes);
 
   private:
+    void validate() const;
+
     struct Impl;
     std::string                scene_name;
     std::string                file_name;

@@ -13,6 +13,7 @@
 #include <fretsim/contact/hertz.h>
 #include <fretsim/contact/mindlin.h>
 #include <fretsim/contact/normal_contact.h>
+#include <fretsim/contact/tangential_traction_model.h>
 
 #include <chrono>
 #include <cmath>
@@ -76,6 +77,15 @@ namespace fretsim::scenes
                                         "Time steps per sliding cycle; the time step is period / steps [-].", 4,
                                         1000000));
     specs.push_back(Spec::non_negative("Friction/Friction coefficient", "0.53", "Coulomb friction coefficient mu [-]."));
+    specs.push_back(Spec::selection("Friction/Traction model", "bristle",
+                                    "Tangential traction model: bristle (paper eq. 4, exponential bristles, the "
+                                    "fast model), elastoplastic bristle (elastic-perfectly-plastic bristles with a "
+                                    "true stick zone), exact (elastic half-spaces, Kalker-type partial-slip "
+                                    "solver, the reference; `fretsim compare-traction` runs all three).",
+                                    "bristle|elastoplastic bristle|exact"));
+    specs.push_back(Spec::real_range("Friction/Exact solver tolerance", "1e-8",
+                                     "Relative RMS traction error at which the exact partial-slip solver stops "
+                                     "each step [-].", 0, 1e-2, true));
     specs.push_back(Spec::non_negative("Friction/Bristle stiffness", "0",
                                        "Tangential foundation stiffness k of the bristle model [Pa/m]; 0 calibrates "
                                        "it from Mindlin, k = 8 G* / (pi a), so the initial tangential stiffness "
@@ -210,6 +220,8 @@ namespace fretsim::scenes
     s.bristle_stiffness        = p.get_double("Friction/Bristle stiffness");
     s.bristle_stiffness_factor = p.get_double("Friction/Bristle stiffness factor");
     s.slip_tolerance           = p.get_double("Friction/Slip tolerance");
+    s.traction_model           = p.get("Friction/Traction model");
+    s.exact_tolerance          = p.get_double("Friction/Exact solver tolerance");
     s.cells_x                  = static_cast<int>(p.get_integer("Grid/Cells x"));
     s.cells_y                  = static_cast<int>(p.get_integer("Grid/Cells y"));
     s.half_width_factor        = p.get_double("Grid/Half width factor");
@@ -345,7 +357,13 @@ namespace fretsim::scenes
       contact::BristleTraction::mindlin_stiffness(tangential_modulus, hertz.equivalent_radius());
     const double stiffness =
       (s.bristle_stiffness > 0.0 ? s.bristle_stiffness : calibrated_stiffness) * s.bristle_stiffness_factor;
-    contact::BristleTraction bristles(grid, stiffness, s.slip_tolerance);
+    contact::PartialSlipSettings exact_settings;
+    exact_settings.tolerance = s.exact_tolerance;
+    const auto traction_model = contact::make_tangential_traction_model(
+      contact::parse_traction_model(s.traction_model), grid, s.materials, stiffness, exact_settings);
+    auto &bristles = *traction_model;
+    double traction_seconds = 0.0;
+    long   traction_iterations = 0, most_traction_iterations = 0;
     const contact::HarmonicSliding sliding{s.sliding_amplitude, s.period};
     const double mu_P = s.friction_coefficient * s.normal_load;
     std::optional<contact::MindlinLoop> mindlin;
@@ -390,6 +408,18 @@ namespace fretsim::scenes
     const int    snapshot_interval = s.snapshots_per_cycle > 0 ? s.steps_per_cycle / s.snapshots_per_cycle : 0;
     const long   first_snapshot_step = static_cast<long>(s.cycles - s.snapshot_cycles) * s.steps_per_cycle + 1;
 
+    // The scene's slip tolerance, the same for every traction model.
+    auto slip_area_fraction = [&] {
+      const contact::Field effective_friction = bristles.effective_friction();
+      std::size_t          loaded = 0, slipping = 0;
+      for (std::size_t c = 0; c < effective_friction.size(); ++c)
+        if (pressure[c] > 0.0)
+          {
+            ++loaded;
+            slipping += effective_friction[c] >= 1.0 - s.slip_tolerance ? 1 : 0;
+          }
+      return loaded > 0 ? double(slipping) / loaded : 0.0;
+    };
     auto write_row = [&](long step, double displacement, double reference_force) {
       const double force_x = contact::integrate(grid, bristles.traction_x());
       const double force_y = contact::integrate(grid, bristles.traction_y());
@@ -397,11 +427,11 @@ namespace fretsim::scenes
       results.append_series_row({step * time_step, static_cast<double>(cycle), displacement * direction_x,
                                  displacement * direction_y, force_x, force_y, s.normal_load,
                                  reference_force * direction_x,
-                                 bristles.slip_area_fraction(pressure, s.friction_coefficient)});
+                                 slip_area_fraction()});
       return force_x * direction_x + force_y * direction_y;
     };
     auto write_snapshot = [&](double time) {
-      const contact::Field effective_friction = bristles.effective_friction(pressure, s.friction_coefficient);
+      const contact::Field effective_friction = bristles.effective_friction();
       contact::Field       slip               = grid.zeros();
       for (std::size_t c = 0; c < slip.size(); ++c)
         slip[c] = pressure[c] > 0.0 && effective_friction[c] >= 1.0 - s.slip_tolerance ? 1.0 : 0.0;
@@ -422,7 +452,11 @@ namespace fretsim::scenes
         const double time         = step * time_step;
         const double displacement = sliding.displacement(time);
         const double slip         = displacement - previous_displacement;
+        const auto traction_start = Clock::now();
         bristles.advance(pressure, s.friction_coefficient, slip * direction_x, slip * direction_y);
+        traction_seconds += seconds_since(traction_start);
+        traction_iterations += bristles.last_iterations();
+        most_traction_iterations = std::max<long>(most_traction_iterations, bristles.last_iterations());
         const bool   reversed_before = (step - 1) * time_step >= 0.25 * s.period * (1.0 - 1e-12);
         const double reference_force =
           mindlin ? contact::FrettingLoop::reference_force(*mindlin, s.sliding_amplitude, displacement,
@@ -439,8 +473,9 @@ namespace fretsim::scenes
         progress.update(step, time);
       }
     progress.finish();
-    stage_times.set("traction_and_output",
-                    seconds_since(stage_start) - (stress_seconds - seconds_of_pressure_stress) - dang_van_seconds);
+    stage_times.set("traction", traction_seconds);
+    stage_times.set("output", seconds_since(stage_start) - (stress_seconds - seconds_of_pressure_stress) -
+                                dang_van_seconds - traction_seconds);
     stage_times.set("stresses", stress_seconds);
     stage_times.set("dang_van", dang_van_seconds);
 
@@ -475,6 +510,13 @@ namespace fretsim::scenes
     summary.set("hertz_peak_pressure_Pa", hertz.peak_pressure);
     summary.set("pressure_model", s.pressure_model);
     summary.set("normal_solver_iterations", static_cast<long long>(normal_iterations));
+    summary.set("traction_model", s.traction_model);
+    summary.set("traction_seconds_per_step", steps_done > 0 ? traction_seconds / steps_done : nan);
+    if (bristles.kind() == contact::TractionModel::exact)
+      {
+        summary.set("traction_iterations_per_step", steps_done > 0 ? double(traction_iterations) / steps_done : nan);
+        summary.set("traction_iterations_max", static_cast<long long>(most_traction_iterations));
+      }
     summary.set("bristle_stiffness_Pa_per_m", stiffness);
     summary.set("mindlin_calibrated_stiffness_Pa_per_m", calibrated_stiffness);
     summary.set("stress_evaluator", stresses->name());
@@ -522,6 +564,22 @@ namespace fretsim::scenes
     summary.set_object("stage_times_s", stage_times);
     summary.set("wall_time_s", seconds_since(run_start));
     summary.write(report.summary_file);
+
+    report.numbers = {{"wall_time_s", seconds_since(run_start)},
+                      {"traction_seconds", traction_seconds},
+                      {"risk_max", risk_max.empty() ? nan : risk_max[worst]},
+                      {"risk_max_x_m", grid.x(worst_i)},
+                      {"risk_max_y_m", grid.y(worst_j)},
+                      {"risk_max_depth_m", s.depth_layers[worst_layer]},
+                      {"friction_force_limit_N", mu_P},
+                      {"contact_radius_m", contact_radius}};
+    if (loop.complete_cycles() >= 1 && mindlin)
+      {
+        const auto metrics = loop.last_cycle(mu_P, *mindlin, s.sliding_amplitude);
+        report.numbers["dissipated_energy_per_cycle_J"] = metrics.dissipated_energy;
+        report.numbers["tangential_force_amplitude_N"]  = metrics.force_amplitude;
+        report.numbers["loop_error_vs_mindlin"]         = metrics.error_vs_reference;
+      }
 
     if (options.plots)
       report.figures = make_figures(options.output_directory);

@@ -41,6 +41,8 @@ namespace fretsim::scenes
       double bristle_stiffness;            // 0: Mindlin calibration [Pa/m]
       double bristle_stiffness_factor;
       double slip_tolerance;
+      std::string traction_model;          // bristle | elastoplastic bristle | exact
+      double exact_tolerance;
       int    cells_x, cells_y;
       double half_width_factor;
       std::string pressure_model;          // numerical | hertz

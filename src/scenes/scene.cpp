@@ -15,11 +15,14 @@ namespace fretsim::scenes
     throw std::invalid_argument("unknown scene '" + scene + "'");
   }
 
-  std::unique_ptr<Scene> load_scene(const std::string &config_file)
+  std::unique_ptr<Scene> load_scene(const std::string &config_file,
+                                    const std::vector<std::pair<std::string, std::string>> &overrides)
   {
     const std::string scene      = app::SceneParameters::scene_of_file(config_file, scene_names());
     app::SceneParameters parameters = declare_parameters(scene);
     parameters.parse_file(config_file);
+    for (const auto &[path, value] : overrides)
+      parameters.set(path, value);
     return std::make_unique<ConcentratedContactScene>(std::move(parameters));
   }
 } // namespace fretsim::scenes

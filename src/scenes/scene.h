@@ -2,6 +2,7 @@
 // A scene builds only the stages it needs and runs them (DESIGN.md §5).
 #include "app/parameters.h"
 
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -22,6 +23,9 @@ namespace fretsim::scenes
     std::string results_file;
     std::string summary_file;
     std::vector<std::string> figures;
+    /// Key results by their summary.json names, for tools that compare runs
+    /// (e.g. "risk_max", "wall_time_s", "dissipated_energy_per_cycle_J").
+    std::map<std::string, double> numbers;
   };
 
   class Scene
@@ -36,5 +40,7 @@ namespace fretsim::scenes
   app::SceneParameters declare_parameters(const std::string &scene);
   /// Reads the file, validates every parameter and builds the scene. Throws
   /// app::InputError; touches nothing on disk.
-  std::unique_ptr<Scene> load_scene(const std::string &config_file);
+  /// `overrides` ("Section/Name", value) replace the file's values.
+  std::unique_ptr<Scene> load_scene(const std::string &config_file,
+                                    const std::vector<std::pair<std::string, std::string>> &overrides = {});
 } // namespace fretsim::scenes

@@ -29,10 +29,25 @@ namespace fretsim::app
              reduction::library_versions() + ")";
     }
 
-    int run_scene(const std::string &config_file, std::string output_directory, bool plots, bool quiet)
+    /// "Section/Name=value" from --set, as (path, value).
+    std::vector<std::pair<std::string, std::string>> parse_overrides(const std::vector<std::string> &settings)
+    {
+      std::vector<std::pair<std::string, std::string>> overrides;
+      for (const auto &setting : settings)
+        {
+          const auto equals = setting.find('=');
+          if (equals == std::string::npos || equals == 0)
+            throw InputError("(command line)", "--set", "expected Section/Name=value, got '" + setting + "'");
+          overrides.emplace_back(setting.substr(0, equals), setting.substr(equals + 1));
+        }
+      return overrides;
+    }
+
+    int run_scene(const std::string &config_file, std::string output_directory, bool plots, bool quiet,
+                  const std::vector<std::string> &settings)
     {
       // Everything is read and checked before anything is written.
-      const auto scene = scenes::load_scene(config_file);
+      const auto scene = scenes::load_scene(config_file, parse_overrides(settings));
       if (output_directory.empty())
         output_directory = (std::filesystem::path("results") / std::filesystem::path(config_file).stem()).string();
       install_interrupt_handlers();
@@ -79,6 +94,8 @@ namespace fretsim::app
     run->add_option("-o,--output", output_directory, "Output directory (default: results/<config name>)");
     run->add_flag("--no-plots", no_plots, "Do not write PNG figures");
     run->add_flag("-q,--quiet", quiet, "No progress line");
+    std::vector<std::string> settings;
+    run->add_option("--set", settings, "Override a parameter, e.g. --set 'Grid/Cells x=256' (repeatable)");
     auto *params = app.add_subcommand("params", "Print every parameter of a scene: default, allowed values, unit");
     params->add_option("SCENE", scene, "Scene name (default: all scenes)");
     CompareTractionOptions compare;
@@ -90,6 +107,7 @@ namespace fretsim::app
                                  "Output directory (default: results/<config name>-traction)");
     compare_traction->add_flag("--no-plots", no_plots, "Do not write the PNG figure");
     compare_traction->add_flag("-q,--quiet", quiet, "No progress line");
+    compare_traction->add_option("--set", settings, "Override a parameter, e.g. --set 'Loading/Sliding amplitude=1.12e-6'");
     auto *bench = app.add_subcommand("bench", "Error against run time of the numerical approximations");
     bench->require_subcommand(1);
     StressBenchmarkOptions stress_bench;
@@ -118,11 +136,12 @@ namespace fretsim::app
     try
       {
         if (*run)
-          return run_scene(config_file, output_directory, !no_plots, quiet);
+          return run_scene(config_file, output_directory, !no_plots, quiet, settings);
         if (*compare_traction)
           {
             compare.plots    = !no_plots;
             compare.progress = !quiet;
+            compare.overrides = parse_overrides(settings);
             install_interrupt_handlers();
             for (const auto &file : run_traction_comparison(compare))
               std::cout << (file.size() > 4 && file.substr(file.size() - 4) == ".png" ? "figure:   " : "table:    ")

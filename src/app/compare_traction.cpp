@@ -62,7 +62,11 @@ namespace fretsim::app
     // Every model's scene is built (and so checked) before anything is run.
     std::vector<std::unique_ptr<scenes::Scene>> scenes_to_run;
     for (const auto &model : models)
-      scenes_to_run.push_back(scenes::load_scene(options.config_file, {{"Friction/Traction model", model}}));
+      {
+        auto overrides = options.overrides;
+        overrides.emplace_back("Friction/Traction model", model);
+        scenes_to_run.push_back(scenes::load_scene(options.config_file, overrides));
+      }
 
     const std::string output =
       options.output_directory.empty() ?

@@ -5,6 +5,7 @@
 // the distance between the D_max locations, all against the exact model (the
 // paper's Fig. 4 and 12 and its central speed claim, measured).
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace fretsim::app
@@ -15,6 +16,8 @@ namespace fretsim::app
     std::string output_directory; ///< default: results/<config name>-traction
     bool        plots    = true;
     bool        progress = true;
+    /// ("Section/Name", value) pairs that replace the file's values.
+    std::vector<std::pair<std::string, std::string>> overrides;
   };
 
   /// Runs the comparison, prints the table and returns the files written

@@ -1,5 +1,6 @@
 // Static solutions: assemble the load, solve K u = f, apply the constraints.
 #include "model_impl.h"
+#include "surface_grid_map_impl.h"
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_values.h>
@@ -77,6 +78,8 @@ namespace fretsim::fem
           cell->get_dof_indices(dof_indices);
           model.constraints.distribute_local_to_global(cell_rhs, dof_indices, rhs);
         }
+      for (const GridTractionLoad &g : load.grid_tractions)
+        g.map->impl().add_forces(*g.tractions, rhs);
       rhs.compress(dealii::VectorOperation::add);
       return rhs;
     }

@@ -34,6 +34,13 @@ namespace
     return std::make_shared<const Mesh>(Mesh::ring(g, d, ranks));
   }
 
+  StaticLoad pressure_load()
+  {
+    StaticLoad load;
+    load.pressures = {{BoundaryId::raceway, 50e6}, {BoundaryId::ring_lands, 10e6}};
+    return load;
+  }
+
   double strain_energy(Ranks ranks, LinearSolver solver)
   {
     ElasticModel model(quarter_cylinder(ranks), {{MaterialId::ring, steel}}, 2,
@@ -43,8 +50,7 @@ namespace
     SolverSettings settings;
     settings.type = solver;
     const double energy =
-      model.solve_static({{{BoundaryId::raceway, 50e6}, {BoundaryId::ring_lands, 10e6}}, {}}, settings)
-        .strain_energy();
+      model.solve_static(pressure_load(), settings).strain_energy();
     std::printf("rank %u/%u: %s, %lu DoFs, energy %.15e J, %u iterations, assembly %.3f s, solve %.3f s\n",
                 ParallelEnvironment::rank(), ParallelEnvironment::n_ranks(),
                 ranks == Ranks::all ? "all ranks" : "this rank", model.n_dofs(), energy, model.timings().iterations,

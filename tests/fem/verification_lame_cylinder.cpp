@@ -55,7 +55,9 @@ namespace
                        {{BoundaryId::side_faces, false, false, true},
                         {BoundaryId::sector_start, false, true, false},
                         {BoundaryId::sector_end, true, false, false}});
-    const DisplacementField u = model.solve_static({{{BoundaryId::raceway, p}}, {}});
+    StaticLoad load;
+    load.pressures.push_back({BoundaryId::raceway, p});
+    const DisplacementField u = model.solve_static(load);
     return {u.average_on_boundary(BoundaryId::raceway), u.l2_error(exact_displacement), model.n_dofs()};
   }
 } // namespace

@@ -52,7 +52,9 @@ TEST(ShrinkFit, InterfacePressureMatchesLame)
                      {{BoundaryId::side_faces, false, false, true},
                       {BoundaryId::sector_start, false, true, false},
                       {BoundaryId::sector_end, true, false, false}});
-  const DisplacementField u = model.solve_static({{}, {{MaterialId::ring, delta / R}}});
+  StaticLoad fit;
+  fit.expansions.push_back({MaterialId::ring, delta / R});
+  const DisplacementField u = model.solve_static(fit);
 
   const CylindricalAverage in_housing = u.average_on_interface(MaterialId::housing, MaterialId::ring);
   const CylindricalAverage in_ring    = u.average_on_interface(MaterialId::ring, MaterialId::housing);

@@ -60,10 +60,22 @@ namespace fretsim::fem
     double     strain = 0.0; ///< e [-]
   };
 
+  class SurfaceGridMap;
+  struct GridTractions;
+
+  /// Tractions on a contact surface grid, applied as f = Hᵀ (A t) through the
+  /// grid's map (surface_grid_map.h); the map and tractions must outlive the solve.
+  struct GridTractionLoad
+  {
+    const SurfaceGridMap *map       = nullptr;
+    const GridTractions  *tractions = nullptr;
+  };
+
   struct StaticLoad
   {
     std::vector<PressureLoad>     pressures;
     std::vector<InPlaneExpansion> expansions;
+    std::vector<GridTractionLoad> grid_tractions;
   };
 
   enum class LinearSolver
@@ -188,7 +200,8 @@ namespace fretsim::fem
     _p_Mat *petsc_mass();
 
     struct Impl;
-    Impl &impl() { return *pimpl; }
+    Impl       &impl() { return *pimpl; }
+    const Impl &impl() const { return *pimpl; }
 
   private:
     std::shared_ptr<Impl> pimpl;

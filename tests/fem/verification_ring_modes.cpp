@@ -1,7 +1,6 @@
 // Free thin ring: the lowest in-plane flexural frequencies n = 2, 3, 4 against
-// the inextensional thin-ring formula (Hoppe 1871; Blevins, Formulas for
-// Natural Frequency and Mode Shape, table 9-1 / Rao, Vibration of Continuous
-// Systems §... ring in-plane flexure):
+// the inextensional thin-ring formula (Hoppe 1871; as tabulated for in-plane
+// ring flexure in Blevins, Formulas for Natural Frequency and Mode Shape):
 //   ω_n = sqrt(E I / (ρ A R⁴)) · n (n² - 1) / sqrt(n² + 1),
 // R the centroid radius, I = b h³/12 for a radial thickness h and width b.
 // With h/R = 0.04 shear and rotary inertia lower the frequencies by ~ (h/R)² n²

@@ -87,7 +87,8 @@ namespace
     const auto directory = test_files::scratch_directory(name);
     const auto scene     = directory / "long.prm";
     test_files::write_text(scene, small_scene({{"Cycles", "100000"}, {"Steps per cycle", "200"},
-                                            {"Field snapshots per cycle", "1"}, {"Field output cycles", "100000"}}));
+                                            {"Field snapshots per cycle", "1"}, {"Field output cycles", "100000"},
+                                               {"Depth layers", "0"}}));
     const auto output = directory / "out";
     const pid_t child = fork();
     if (child == 0)
@@ -97,6 +98,12 @@ namespace
               static_cast<char *>(nullptr));
         _exit(127);
       }
+    // Signal once the run is well under way: the results file exists (set-up
+    // done) and a second of steps has followed, however loaded the machine.
+    const auto started = std::chrono::steady_clock::now();
+    while (!std::filesystem::exists(output / "results.h5") &&
+           std::chrono::steady_clock::now() - started < std::chrono::seconds(60))
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
     std::this_thread::sleep_for(std::chrono::milliseconds(1500));
     kill(child, signal_number);
     int status = 0;

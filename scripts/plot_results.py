@@ -275,6 +275,16 @@ def plot_loop(f, run, parameters):
         ", with the Mindlin–Deresiewicz loop" if mindlin is not None else "")
 
 
+def decorate_map(ax, title, xc, yc, contact):
+    """Title, axes in mm, equal aspect, and the contact edge dashed."""
+    ax.set_title(title)
+    ax.set_xlabel("x [mm]")
+    ax.set_ylabel("y [mm]")
+    ax.set_aspect("equal")
+    if contact is not None and contact.any() and not contact.all():
+        ax.contour(xc, yc, contact.astype(float), levels=[0.5], colors="black", linewidths=0.8, linestyles="--")
+
+
 def cell_edges(centres):
     """Cell edges from cell centres (uniform spacing assumed at the ends)."""
     centres = np.asarray(centres, dtype=float)
@@ -326,13 +336,7 @@ def plot_surface_fields(f, run, parameters):
     panels = iter(axes.ravel())
 
     def decorate(ax, title):
-        ax.set_title(title)
-        ax.set_xlabel("x [mm]")
-        ax.set_ylabel("y [mm]")
-        ax.set_aspect("equal")
-        if contact is not None and contact.any() and not contact.all():
-            ax.contour(xc, yc, contact.astype(float), levels=[0.5], colors="black", linewidths=0.8,
-                       linestyles="--")
+        decorate_map(ax, title, xc, yc, contact)
 
     if "pressure" in fields:
         ax = next(panels)
@@ -439,13 +443,7 @@ def plot_risk(f, run, parameters):
     fig, axes = plt.subplots(2, 3, figsize=(18, 10.5), constrained_layout=True)
 
     def decorate(ax, title):
-        ax.set_title(title)
-        ax.set_xlabel("x [mm]")
-        ax.set_ylabel("y [mm]")
-        ax.set_aspect("equal")
-        if contact is not None and contact.any() and not contact.all():
-            ax.contour(xc, yc, contact.astype(float), levels=[0.5], colors="black", linewidths=0.8,
-                       linestyles="--")
+        decorate_map(ax, title, xc, yc, contact)
 
     ax = axes[0, 0]
     if "fields/effective_friction" in f:

@@ -1,4 +1,5 @@
 #include <fretsim/contact/elastoplastic_bristle.h>
+#include <fretsim/contact/bristle.h>
 
 #include <algorithm>
 #include <cmath>
@@ -19,7 +20,9 @@ namespace fretsim::contact
 
   double ElastoplasticBristleTraction::mindlin_stiffness(double tangential_modulus, double contact_radius)
   {
-    return 8.0 * tangential_modulus / (M_PI * contact_radius);
+    // The same calibration as the exponential bristles: both models start
+    // with Mindlin's initial tangential stiffness 8 G* a.
+    return BristleTraction::mindlin_stiffness(tangential_modulus, contact_radius);
   }
 
   void ElastoplasticBristleTraction::reset()

@@ -8,6 +8,8 @@
 #include <deal.II/fe/fe_q.h>
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/fe/mapping_q.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_system.h>
 #include <deal.II/grid/tria.h>
 
 #include <cmath>
@@ -325,5 +327,15 @@ namespace fretsim::fem
     for (const auto &[id, v] : s.material_volume)
       s.volume += v;
     return s;
+  }
+
+  unsigned long Mesh::n_dofs(const unsigned int degree) const
+  {
+    if (degree != 1 && degree != 2)
+      throw std::invalid_argument("fem::Mesh::n_dofs: element degree must be 1 or 2, not " + std::to_string(degree));
+    const dealii::FESystem<3> fe(dealii::FE_Q<3>(degree), 3);
+    dealii::DoFHandler<3>     dof_handler(pimpl->triangulation);
+    dof_handler.distribute_dofs(fe);
+    return dof_handler.n_dofs();
   }
 } // namespace fretsim::fem

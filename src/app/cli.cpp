@@ -2,6 +2,7 @@
 
 #include "app/build_info.h"
 #include "app/compare_traction.h"
+#include "app/mesh_command.h"
 #include "app/parameters.h"
 #include "app/run_control.h"
 #include "app/stress_benchmark.h"
@@ -67,9 +68,16 @@ namespace fretsim::app
 
     int print_parameters(const std::string &scene)
     {
-      const auto names = scene.empty() ? scenes::scene_names() : std::vector<std::string>{scene};
+      auto known_names = scenes::scene_names();
+      known_names.push_back(ring_housing_scene);
+      const auto names = scene.empty() ? known_names : std::vector<std::string>{scene};
       for (const auto &name : names)
         {
+          if (name == ring_housing_scene)
+            {
+              SceneParameters(name, ring_housing_parameter_specs()).print_reference(std::cout);
+              continue;
+            }
           bool known = false;
           for (const auto &candidate : scenes::scene_names())
             known = known || candidate == name;
@@ -108,6 +116,15 @@ namespace fretsim::app
     compare_traction->add_flag("--no-plots", no_plots, "Do not write the PNG figure");
     compare_traction->add_flag("-q,--quiet", quiet, "No progress line");
     compare_traction->add_option("--set", settings, "Override a parameter, e.g. --set 'Loading/Sliding amplitude=1.12e-6'");
+    MeshCommandOptions mesh_options;
+    auto *mesh = app.add_subcommand("mesh", "Build or read the ring/housing FE mesh of a ring_housing configuration, "
+                                            "check it, write it with its boundary ids for ParaView (VTU) and print "
+                                            "cells, DoFs and the ids found");
+    mesh->add_option("CONFIG", mesh_options.config_file, "Configuration file (.prm or .json, Scene = ring_housing)")
+      ->required();
+    mesh->add_option("-o,--output", mesh_options.output_directory,
+                     "Output directory (default: results/<config name>-mesh)");
+    mesh->add_option("--set", settings, "Override a parameter, e.g. --set 'Mesh/Element degree=1'");
     auto *bench = app.add_subcommand("bench", "Error against run time of the numerical approximations");
     bench->require_subcommand(1);
     StressBenchmarkOptions stress_bench;
@@ -146,6 +163,12 @@ namespace fretsim::app
             for (const auto &file : run_traction_comparison(compare))
               std::cout << (file.size() > 4 && file.substr(file.size() - 4) == ".png" ? "figure:   " : "table:    ")
                         << std::filesystem::absolute(file).string() << "\n";
+            return exit_ok;
+          }
+        if (*mesh)
+          {
+            mesh_options.overrides = parse_overrides(settings);
+            run_mesh_command(mesh_options, std::cout);
             return exit_ok;
           }
         if (*bench_stresses)

@@ -142,6 +142,10 @@ namespace fretsim::fem
     /// vertices give them; 3: the exact curved geometry to ~1e-8).
     MeshSummary summary(unsigned int mapping_degree = 3) const;
 
+    /// Number of DoFs of a displacement field with FE_Q of `degree` per
+    /// component on this mesh (no matrices are built). Collective.
+    unsigned long n_dofs(unsigned int degree) const;
+
     /// Writes `<directory>/<name>.vtu` (cells: material id, owner rank) and
     /// `<directory>/<name>_boundary.vtu` (boundary faces: boundary id) for
     /// ParaView. Collective; rank 0 writes.

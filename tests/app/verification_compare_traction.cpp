@@ -78,3 +78,40 @@ TEST(TractionModels, CompareTractionReportsEveryModelAgainstExact)
                                                                 "elastoplastic_bristle" : model) /
                                         "results.h5"));
 }
+
+TEST(TractionModels, ExtremeCasesStayFiniteAndBounded)
+{
+  // Every traction model through the whole pipeline (stresses, Dang Van) on a
+  // coarse grid: mu -> 0 and large mu, vanishing and gross-slip amplitudes,
+  // very stiff bristles, a quarter-period time step. The run ends normally,
+  // D_max is finite, and |Q| never exceeds mu P (Coulomb, to round-off).
+  const std::vector<std::pair<std::string, std::string>> cases{
+    {"Friction coefficient", "0"},       {"Friction coefficient", "1.5"},   {"Sliding amplitude", "1e-9"},
+    {"Sliding amplitude", "1e-4"},        {"Bristle stiffness factor", "1e6"}, {"Steps per cycle", "4"}};
+  int run = 0;
+  for (const std::string model : {"bristle", "elastoplastic bristle", "exact"})
+    for (const auto &[name, value] : cases)
+      {
+        auto edits = std::vector<std::pair<std::string, std::string>>{
+          {"Cells x", "32"}, {"Cells y", "32"}, {"Cycles", "2"}, {"Steps per cycle", "20"},
+          {"Field snapshots per cycle", "4"}, {"Depth layers", "0, 1e-4"},
+          {"Friction coefficient", "0.53\n  set Traction model = " + model}};
+        if (name == "Friction coefficient")
+          edits.back().second = value + "\n  set Traction model = " + model;
+        else
+          edits.push_back({name, value});
+        if (name == "Steps per cycle")
+          edits.push_back({"Field snapshots per cycle", "4"});
+        const auto directory = test_files::scratch_directory("extreme-" + std::to_string(run++));
+        test_files::write_text(directory / "scene.prm", test_files::edited_paper_scene(edits));
+        const auto result = run_program("run " + (directory / "scene.prm").string() + " -o " +
+                                        (directory / "out").string() + " --no-plots -q");
+        ASSERT_EQ(result.exit_code, 0) << model << ", " << name << " = " << value << ": " << result.output;
+        const std::string summary = test_files::read_text(directory / "out" / "summary.json");
+        const double      risk    = summary_number(summary, "risk_max");
+        EXPECT_TRUE(std::isfinite(risk) && risk >= 0.0) << model << ", " << name << " = " << value;
+        const double mu = name == "Friction coefficient" ? std::stod(value) : 0.53;
+        EXPECT_LE(summary_number(summary, "tangential_force_amplitude_N"), mu * 1250.0 * (1 + 1e-9) + 1e-12)
+          << model << ", " << name << " = " << value;
+      }
+}

@@ -371,8 +371,13 @@ namespace fretsim::output
           for (std::size_t a = layer_dims.size(); a-- > 0;)
             index[a] = rest % layer_dims[a], rest /= layer_dims[a];
           std::string name = leaf(field.path);
+          // A second axis of six is the Voigt axis of a stress field
+          // [nz, 6, ny, nx]: name its components, e.g. stress_z0_xx.
+          static const char *const voigt[] = {"xx", "yy", "zz", "yz", "xz", "xy"};
           for (std::size_t a = 0; a < index.size(); ++a)
-            name += (a == 0 ? "_z" : "_") + std::to_string(index[a]);
+            name += a == 0 ? "_z" + std::to_string(index[a]) :
+                    a == 1 && layer_dims[a] == 6 ? "_" + std::string(voigt[index[a]]) :
+                                                   "_" + std::to_string(index[a]);
 
           std::vector<hsize_t> start, stride(shape.size(), 1), count;
           if (timed)

@@ -5,7 +5,12 @@
 fretsim_add_test_folder(fem fretsim_fem)
 
 set(fretsim_mpi_env "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMPI_MCA_rmaps_base_oversubscribe=1")
-foreach(name unit_parallel_consistency unit_surface_grid_map)
+# The stress snapshot test also writes the HDF5 snapshot file.
+if(TARGET test_fem_verification_stress_snapshots)
+  target_link_libraries(test_fem_verification_stress_snapshots PRIVATE fretsim_output)
+endif()
+
+foreach(name unit_parallel_consistency unit_surface_grid_map verification_stress_snapshots)
   if(TARGET test_fem_${name})
     add_test(NAME fem.mpi_np2.${name}
       COMMAND ${MPIEXEC_EXECUTABLE} ${MPIEXEC_NUMPROC_FLAG} 2 ${MPIEXEC_PREFLAGS}

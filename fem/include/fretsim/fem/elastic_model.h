@@ -202,6 +202,8 @@ namespace fretsim::fem
     struct Impl;
     Impl       &impl() { return *pimpl; }
     const Impl &impl() const { return *pimpl; }
+    /// Shared ownership of the discretisation, for objects that outlive the model.
+    std::shared_ptr<const Impl> shared_impl() const { return pimpl; }
 
   private:
     std::shared_ptr<Impl> pimpl;

@@ -66,6 +66,10 @@ namespace fretsim::fem
   dealii::SymmetricTensor<2, 3> stress(const Lame &m, const dealii::SymmetricTensor<2, 3> &strain,
                                        double in_plane_eigenstrain);
 
+  /// The load vector f of a static load (or of a transient load at one time),
+  /// through the model's constraints.
+  dealii::PETScWrappers::MPI::Vector assemble_load(const ElasticModel::Impl &model, const StaticLoad &load);
+
   /// Seconds since `start`.
   inline double seconds_since(const std::chrono::steady_clock::time_point start)
   {

@@ -13,8 +13,9 @@ namespace fretsim::fem
   namespace
   {
     using Clock = std::chrono::steady_clock;
+  } // namespace
 
-    dealii::PETScWrappers::MPI::Vector assemble_load(const ElasticModel::Impl &model, const StaticLoad &load)
+  dealii::PETScWrappers::MPI::Vector assemble_load(const ElasticModel::Impl &model, const StaticLoad &load)
     {
       dealii::PETScWrappers::MPI::Vector rhs(model.owned_dofs, model.communicator());
       const unsigned int                 n = model.fe.n_dofs_per_cell();
@@ -83,6 +84,9 @@ namespace fretsim::fem
       rhs.compress(dealii::VectorOperation::add);
       return rhs;
     }
+
+  namespace
+  {
 
     unsigned int solve(const ElasticModel::Impl &model, const dealii::PETScWrappers::MPI::Vector &rhs,
                        dealii::PETScWrappers::MPI::Vector &solution, const SolverSettings &settings)

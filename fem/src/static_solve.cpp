@@ -6,7 +6,10 @@
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/lac/petsc_precondition.h>
 #include <deal.II/lac/petsc_solver.h>
+#include <deal.II/dofs/dof_tools.h>
 #include <deal.II/lac/solver_control.h>
+
+#include <petscksp.h>
 
 namespace fretsim::fem
 {
@@ -88,6 +91,101 @@ namespace fretsim::fem
   namespace
   {
 
+    void check_petsc(const PetscErrorCode error, const char *what)
+    {
+      if (error != 0)
+        throw std::runtime_error(std::string("fem::ElasticModel: PETSc failed in ") + what + " (error " +
+                                 std::to_string(static_cast<int>(error)) + ")");
+    }
+
+    /// The six rigid-body modes (three translations, three rotations about the
+    /// centroid-free origin), orthonormalised, as PETSc vectors.
+    std::vector<Vec> rigid_body_modes(const ElasticModel::Impl &model)
+    {
+      std::map<dealii::types::global_dof_index, dealii::Point<3>> points;
+      dealii::DoFTools::map_dofs_to_support_points(model.mapping, model.dof_handler, points);
+      std::vector<dealii::types::global_dof_index> dof_indices(model.fe.n_dofs_per_cell());
+      std::map<dealii::types::global_dof_index, unsigned int> component_of;
+      for (const auto &cell : model.dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            cell->get_dof_indices(dof_indices);
+            for (unsigned int i = 0; i < dof_indices.size(); ++i)
+              if (model.owned_dofs.is_element(dof_indices[i]))
+                component_of[dof_indices[i]] = model.fe.system_to_component_index(i).first;
+          }
+      std::vector<dealii::PETScWrappers::MPI::Vector> modes(6);
+      for (auto &m : modes)
+        m.reinit(model.owned_dofs, model.communicator());
+      for (const auto &[dof, c] : component_of)
+        {
+          const dealii::Point<3> &x = points.at(dof);
+          modes[c][dof]             = 1.0;
+          // Rotation about axis k: u = e_k × x.
+          for (unsigned int k = 0; k < 3; ++k)
+            {
+              dealii::Tensor<1, 3> axis;
+              axis[k]                   = 1.0;
+              const dealii::Tensor<1, 3> u = dealii::cross_product_3d(axis, static_cast<dealii::Tensor<1, 3>>(x));
+              modes[3 + k][dof]         = u[c];
+            }
+        }
+      std::vector<Vec> vecs(6);
+      for (unsigned int i = 0; i < 6; ++i)
+        {
+          modes[i].compress(dealii::VectorOperation::insert);
+          check_petsc(VecDuplicate(static_cast<Vec>(modes[i]), &vecs[i]), "VecDuplicate");
+          check_petsc(VecCopy(static_cast<Vec>(modes[i]), vecs[i]), "VecCopy");
+          // Gram–Schmidt: MatNullSpaceCreate wants an orthonormal set.
+          for (unsigned int j = 0; j < i; ++j)
+            {
+              PetscScalar dot;
+              check_petsc(VecDot(vecs[i], vecs[j], &dot), "VecDot");
+              check_petsc(VecAXPY(vecs[i], -dot, vecs[j]), "VecAXPY");
+            }
+          check_petsc(VecNormalize(vecs[i], nullptr), "VecNormalize");
+        }
+      return vecs;
+    }
+
+    unsigned int solve_gamg(const ElasticModel::Impl &model, const dealii::PETScWrappers::MPI::Vector &rhs,
+                            dealii::PETScWrappers::MPI::Vector &solution, const SolverSettings &settings)
+    {
+      Mat          K    = static_cast<Mat>(model.stiffness);
+      auto         vecs = rigid_body_modes(model);
+      MatNullSpace near_null;
+      check_petsc(MatNullSpaceCreate(model.communicator(), PETSC_FALSE, 6, vecs.data(), &near_null),
+                  "MatNullSpaceCreate");
+      check_petsc(MatSetNearNullSpace(K, near_null), "MatSetNearNullSpace");
+      KSP ksp;
+      check_petsc(KSPCreate(model.communicator(), &ksp), "KSPCreate");
+      check_petsc(KSPSetOperators(ksp, K, K), "KSPSetOperators");
+      check_petsc(KSPSetType(ksp, KSPCG), "KSPSetType");
+      // Relative to ‖b‖ in the unpreconditioned norm, as a user reads it.
+      check_petsc(KSPSetNormType(ksp, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
+      check_petsc(KSPSetTolerances(ksp, settings.relative_tolerance, 1e-300, 1e300, settings.max_iterations),
+                  "KSPSetTolerances");
+      PC pc;
+      check_petsc(KSPGetPC(ksp, &pc), "KSPGetPC");
+      check_petsc(PCSetType(pc, PCGAMG), "PCSetType");
+      check_petsc(KSPSetUp(ksp), "KSPSetUp");
+      check_petsc(KSPSolve(ksp, static_cast<Vec>(rhs), static_cast<Vec>(solution)), "KSPSolve");
+      KSPConvergedReason reason;
+      PetscInt           iterations = 0;
+      KSPGetConvergedReason(ksp, &reason);
+      KSPGetIterationNumber(ksp, &iterations);
+      KSPDestroy(&ksp);
+      MatSetNearNullSpace(K, nullptr);
+      MatNullSpaceDestroy(&near_null);
+      for (Vec &v : vecs)
+        VecDestroy(&v);
+      if (reason < 0)
+        throw std::runtime_error("fem::ElasticModel: CG+GAMG did not converge (PETSc reason " +
+                                 std::to_string(static_cast<int>(reason)) + ") after " +
+                                 std::to_string(iterations) + " iterations");
+      return static_cast<unsigned int>(iterations);
+    }
+
     unsigned int solve(const ElasticModel::Impl &model, const dealii::PETScWrappers::MPI::Vector &rhs,
                        dealii::PETScWrappers::MPI::Vector &solution, const SolverSettings &settings)
     {
@@ -99,6 +197,8 @@ namespace fretsim::fem
           solver.solve(model.stiffness, solution, rhs);
           return 1;
         }
+      if (settings.type == LinearSolver::cg_gamg)
+        return solve_gamg(model, rhs, solution, settings);
       // PETSc's CG measures the preconditioned residual ‖B r‖, whose scale
       // the AMG sets; a reduction relative to the first one is what tells.
       dealii::ReductionControl control(settings.max_iterations, 1e-300, settings.relative_tolerance);

@@ -53,7 +53,7 @@ TEST(Scaling, StaticSolvesOfThe6208Ring)
       ElasticModel model(mesh, {{MaterialId::ring, steel}}, 2, {{BoundaryId::ring_outer}});
       StaticLoad   load;
       load.pressures.push_back({BoundaryId::raceway, 100e6});
-      for (const LinearSolver solver : {LinearSolver::cg_amg, LinearSolver::direct})
+      for (const LinearSolver solver : {LinearSolver::cg_gamg, LinearSolver::cg_amg, LinearSolver::direct})
         {
           if (solver == LinearSolver::direct && !c.direct_too)
             continue;
@@ -63,7 +63,7 @@ TEST(Scaling, StaticSolvesOfThe6208Ring)
           const Timings &t        = model.timings();
           std::printf("%lu cells, %lu DoFs, %s: setup %.2f s, assemble K %.2f s, load %.2f s, solve %.2f s "
                       "(%u iterations), energy %.10e J\n",
-                      mesh->summary(1).n_cells, model.n_dofs(), solver == LinearSolver::direct ? "MUMPS" : "CG+AMG",
+                      mesh->summary(1).n_cells, model.n_dofs(), solver == LinearSolver::direct ? "MUMPS" : solver == LinearSolver::cg_gamg ? "CG+GAMG(rigid)" : "CG+BoomerAMG",
                       t.setup_dofs, t.assemble_stiffness, t.assemble_load, t.solve, t.iterations, energy);
         }
     }

@@ -81,7 +81,11 @@ namespace fretsim::fem
   enum class LinearSolver
   {
     direct, ///< MUMPS Cholesky: exact, for small and medium models
-    cg_amg, ///< PETSc CG preconditioned with hypre BoomerAMG
+    cg_amg, ///< PETSc CG preconditioned with hypre BoomerAMG (scalar: blind to rigid rotations)
+    /// PETSc CG with smoothed-aggregation GAMG given the six rigid-body
+    /// modes as near-null space: the coarse spaces then hold the rotations
+    /// that scalar AMG must relearn from the smoother (the fast iterative choice).
+    cg_gamg,
   };
 
   struct SolverSettings

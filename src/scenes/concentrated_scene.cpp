@@ -342,12 +342,10 @@ namespace fretsim::scenes
                                contact::DangVanConstants::from_fatigue_limits(s.bending_fatigue_limit,
                                                                               s.torsion_fatigue_limit),
                                dang_van_settings);
-    double      dang_van_seconds = 0.0;
-    std::size_t most_infinite    = 0;
-    auto        update_risk      = [&] {
+    double dang_van_seconds = 0.0;
+    auto   update_risk      = [&] {
       const auto start = Clock::now();
       risk.add_step(stress);
-      most_infinite = std::max(most_infinite, risk.infinite_risk_count());
       dang_van_seconds += seconds_since(start);
     };
 

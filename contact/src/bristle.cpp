@@ -80,28 +80,37 @@ namespace fretsim::contact
 
   Field BristleTraction::effective_friction(const Field &pressure, double friction_coefficient) const
   {
-    Field ratio = grid.zeros();
-    for (std::size_t c = 0; c < grid.size(); ++c)
+    return contact::effective_friction(tau_x, tau_y, pressure, friction_coefficient);
+  }
+
+  double BristleTraction::slip_area_fraction(const Field &pressure, double friction_coefficient) const
+  {
+    return contact::slip_area_fraction(effective_friction(pressure, friction_coefficient), pressure, slip_tolerance);
+  }
+
+  Field effective_friction(const Field &traction_x, const Field &traction_y, const Field &pressure,
+                           double friction_coefficient)
+  {
+    Field ratio(pressure.size(), 0.0);
+    for (std::size_t c = 0; c < pressure.size(); ++c)
       {
         const double mu_p = friction_coefficient * pressure[c];
         if (mu_p > 0.0)
-          ratio[c] = std::min(1.0, std::hypot(tau_x[c], tau_y[c]) / mu_p);
+          ratio[c] = std::min(1.0, std::hypot(traction_x[c], traction_y[c]) / mu_p);
         else if (pressure[c] > 0.0)
           ratio[c] = 1.0; // frictionless contact: every loaded point slips
       }
     return ratio;
   }
 
-  double BristleTraction::slip_area_fraction(const Field &pressure, double friction_coefficient) const
+  double slip_area_fraction(const Field &effective_friction, const Field &pressure, double slip_tolerance)
   {
-    const Field ratio     = effective_friction(pressure, friction_coefficient);
-    std::size_t loaded    = 0;
-    std::size_t slipping  = 0;
-    for (std::size_t c = 0; c < grid.size(); ++c)
+    std::size_t loaded = 0, slipping = 0;
+    for (std::size_t c = 0; c < pressure.size(); ++c)
       if (pressure[c] > 0.0)
         {
           ++loaded;
-          if (ratio[c] >= 1.0 - slip_tolerance)
+          if (effective_friction[c] >= 1.0 - slip_tolerance)
             ++slipping;
         }
     return loaded == 0 ? 0.0 : static_cast<double>(slipping) / static_cast<double>(loaded);

@@ -99,16 +99,7 @@ namespace fretsim::contact
 
   Field ElastoplasticBristleTraction::effective_friction(const Field &pressure, double friction_coefficient) const
   {
-    Field ratio = grid.zeros();
-    for (std::size_t c = 0; c < grid.size(); ++c)
-      {
-        const double mu_p = friction_coefficient * pressure[c];
-        if (mu_p > 0.0)
-          ratio[c] = std::min(1.0, std::hypot(tau_x[c], tau_y[c]) / mu_p);
-        else if (pressure[c] > 0.0)
-          ratio[c] = 1.0; // frictionless contact: every loaded point slips
-      }
-    return ratio;
+    return contact::effective_friction(tau_x, tau_y, pressure, friction_coefficient);
   }
 
   double ElastoplasticBristleTraction::slip_area_fraction(const Field &pressure, double friction_coefficient) const

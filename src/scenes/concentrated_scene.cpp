@@ -408,15 +408,7 @@ namespace fretsim::scenes
 
     // The scene's slip tolerance, the same for every traction model.
     auto slip_area_fraction = [&] {
-      const contact::Field effective_friction = bristles.effective_friction();
-      std::size_t          loaded = 0, slipping = 0;
-      for (std::size_t c = 0; c < effective_friction.size(); ++c)
-        if (pressure[c] > 0.0)
-          {
-            ++loaded;
-            slipping += effective_friction[c] >= 1.0 - s.slip_tolerance ? 1 : 0;
-          }
-      return loaded > 0 ? double(slipping) / loaded : 0.0;
+      return contact::slip_area_fraction(bristles.effective_friction(), pressure, s.slip_tolerance);
     };
     auto write_row = [&](long step, double displacement, double reference_force) {
       const double force_x = contact::integrate(grid, bristles.traction_x());

@@ -49,4 +49,13 @@ namespace fretsim::contact
     Field       tau_x;
     Field       tau_y;
   };
+
+  /// |tau| / (mu p) per cell, capped at 1; 1 on loaded frictionless cells
+  /// (they slip freely), 0 outside the contact. Shared by the bristle models.
+  Field effective_friction(const Field &traction_x, const Field &traction_y, const Field &pressure,
+                           double friction_coefficient);
+
+  /// Fraction of the loaded cells (p > 0) whose effective friction is at
+  /// least 1 - slip_tolerance.
+  double slip_area_fraction(const Field &effective_friction, const Field &pressure, double slip_tolerance);
 } // namespace fretsim::contact

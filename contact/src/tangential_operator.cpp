@@ -49,37 +49,32 @@ namespace fretsim::contact::detail
       return std::unique_ptr<fftw_complex[], FftwFree>(pointer);
     }
 
-    SurfaceDisplacement add(const SurfaceDisplacement &a, const SurfaceDisplacement &b)
+    /// The relative displacement of the two surfaces under a unit shear on
+    /// the cell at offset (x, y): the sum of both bodies' Cerruti rectangles.
+    template <typename Rectangle>
+    SurfaceDisplacement both_bodies(Rectangle rectangle, const MaterialPair &materials, double x, double y,
+                                    double hx, double hy)
     {
+      const auto &l = materials.lower, &u = materials.upper;
+      const auto  a = rectangle(x, y, 0.5 * hx, 0.5 * hy, l.shear_modulus(), l.poisson_ratio);
+      const auto  b = rectangle(x, y, 0.5 * hx, 0.5 * hy, u.shear_modulus(), u.poisson_ratio);
       return {a.x + b.x, a.y + b.y, a.z + b.z};
     }
   } // namespace
 
   double TangentialKernel::xx(int di, int dj) const
   {
-    const auto &l = materials.lower, &u = materials.upper;
-    const double x = di * hx, y = dj * hy;
-    return add(rectangle_displacement_shear_x(x, y, 0.5 * hx, 0.5 * hy, l.shear_modulus(), l.poisson_ratio),
-               rectangle_displacement_shear_x(x, y, 0.5 * hx, 0.5 * hy, u.shear_modulus(), u.poisson_ratio))
-      .x;
+    return both_bodies(rectangle_displacement_shear_x, materials, di * hx, dj * hy, hx, hy).x;
   }
 
   double TangentialKernel::xy(int di, int dj) const
   {
-    const auto &l = materials.lower, &u = materials.upper;
-    const double x = di * hx, y = dj * hy;
-    return add(rectangle_displacement_shear_x(x, y, 0.5 * hx, 0.5 * hy, l.shear_modulus(), l.poisson_ratio),
-               rectangle_displacement_shear_x(x, y, 0.5 * hx, 0.5 * hy, u.shear_modulus(), u.poisson_ratio))
-      .y;
+    return both_bodies(rectangle_displacement_shear_x, materials, di * hx, dj * hy, hx, hy).y;
   }
 
   double TangentialKernel::yy(int di, int dj) const
   {
-    const auto &l = materials.lower, &u = materials.upper;
-    const double x = di * hx, y = dj * hy;
-    return add(rectangle_displacement_shear_y(x, y, 0.5 * hx, 0.5 * hy, l.shear_modulus(), l.poisson_ratio),
-               rectangle_displacement_shear_y(x, y, 0.5 * hx, 0.5 * hy, u.shear_modulus(), u.poisson_ratio))
-      .y;
+    return both_bodies(rectangle_displacement_shear_y, materials, di * hx, dj * hy, hx, hy).y;
   }
 
   struct BlockConvolution::Buffers

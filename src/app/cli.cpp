@@ -2,7 +2,9 @@
 
 #include "app/build_info.h"
 #include "app/compare_traction.h"
+#include "app/fe_command.h"
 #include "app/mesh_command.h"
+#include "app/reduce_command.h"
 #include "app/parameters.h"
 #include "app/run_control.h"
 #include "app/stress_benchmark.h"
@@ -116,15 +118,35 @@ namespace fretsim::app
     compare_traction->add_flag("--no-plots", no_plots, "Do not write the PNG figure");
     compare_traction->add_flag("-q,--quiet", quiet, "No progress line");
     compare_traction->add_option("--set", settings, "Override a parameter, e.g. --set 'Loading/Sliding amplitude=1.12e-6'");
-    MeshCommandOptions mesh_options;
-    auto *mesh = app.add_subcommand("mesh", "Build or read the ring/housing FE mesh of a ring_housing configuration, "
-                                            "check it, write it with its boundary ids for ParaView (VTU) and print "
-                                            "cells, DoFs and the ids found");
-    mesh->add_option("CONFIG", mesh_options.config_file, "Configuration file (.prm or .json, Scene = ring_housing)")
-      ->required();
-    mesh->add_option("-o,--output", mesh_options.output_directory,
-                     "Output directory (default: results/<config name>-mesh)");
-    mesh->add_option("--set", settings, "Override a parameter, e.g. --set 'Mesh/Element degree=1'");
+    // The commands on a ring_housing configuration share their options.
+    RingHousingCommandOptions fe_options;
+    auto add_ring_housing_command = [&](const std::string &name, const std::string &description,
+                                        const std::string &output_help) {
+      auto *command = app.add_subcommand(name, description);
+      command->add_option("CONFIG", fe_options.config_file,
+                          "Configuration file (.prm or .json, Scene = ring_housing)")
+        ->required();
+      command->add_option("-o,--output", fe_options.output, output_help);
+      command->add_option("--set", settings, "Override a parameter, e.g. --set 'Mesh/Element degree=1'");
+      return command;
+    };
+    auto *mesh = add_ring_housing_command(
+      "mesh",
+      "Build or read the ring/housing FE mesh of a ring_housing configuration, check it, write it with its "
+      "boundary ids for ParaView (VTU) and print cells, DoFs and the ids found",
+      "Output directory (default: results/<config name>-mesh)");
+    auto *fe = add_ring_housing_command(
+      "fe", "Full-FE reference solutions of a ring_housing configuration: static load cases, eigenmodes or a "
+            "transient, with stress snapshots in HDF5",
+      "Output directory (default: results/<config name>-fe)");
+    fe->add_flag("--no-plots", no_plots, "Do not write PNG figures");
+    fe->add_flag("-q,--quiet", quiet, "No progress display");
+    auto *reduce = add_ring_housing_command(
+      "reduce", "Craig-Bampton reduced model of the ring (constraint modes, characteristic constraint modes, "
+                "fixed-interface modes) written to an HDF5 model file",
+      "Model file (default: results/<config name>-model.h5)");
+    reduce->add_flag("--no-plots", no_plots, "Do not write PNG figures");
+    reduce->add_flag("-q,--quiet", quiet, "No progress display");
     auto *bench = app.add_subcommand("bench", "Error against run time of the numerical approximations");
     bench->require_subcommand(1);
     StressBenchmarkOptions stress_bench;
@@ -165,10 +187,21 @@ namespace fretsim::app
                         << std::filesystem::absolute(file).string() << "\n";
             return exit_ok;
           }
-        if (*mesh)
+        if (*mesh || *fe || *reduce)
           {
-            mesh_options.overrides = parse_overrides(settings);
-            run_mesh_command(mesh_options, std::cout);
+            fe_options.overrides = parse_overrides(settings);
+            fe_options.progress  = !quiet;
+            fe_options.plots     = !no_plots;
+            if (*mesh)
+              run_mesh_command(fe_options, std::cout);
+            else
+              {
+                install_interrupt_handlers();
+                const auto files = *fe ? run_fe_command(fe_options, std::cout) : run_reduce_command(fe_options, std::cout);
+                for (const auto &file : files)
+                  std::cout << (file.size() > 4 && file.substr(file.size() - 4) == ".png" ? "figure:   " : "written:  ")
+                            << std::filesystem::absolute(file).string() << "\n";
+              }
             return exit_ok;
           }
         if (*bench_stresses)

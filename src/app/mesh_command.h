@@ -2,7 +2,7 @@
 // `fretsim mesh CONFIG -o DIR`: builds (or reads) the ring/housing mesh that a
 // "ring_housing" configuration describes, checks it, writes it with its
 // boundary ids for ParaView and reports cells, DoFs and the ids found.
-#include "app/parameters.h"
+#include "app/ring_housing.h"
 
 #include <iosfwd>
 #include <string>
@@ -10,18 +10,6 @@
 
 namespace fretsim::app
 {
-  /// The scene name of ring/housing FE configurations.
-  inline const std::string ring_housing_scene = "ring_housing";
-
-  /// Geometry, mesh and discretisation parameters of the ring/housing FE model.
-  std::vector<ParameterSpec> ring_housing_parameter_specs();
-
-  struct MeshCommandOptions
-  {
-    std::string config_file;
-    std::string output_directory; ///< empty: results/<config name>-mesh
-    std::vector<std::pair<std::string, std::string>> overrides;
-  };
 
   /// Reads and validates the configuration (InputError before anything else
   /// happens), then starts MPI/PETSc for the FE work, builds the mesh (a Gmsh
@@ -30,5 +18,5 @@ namespace fretsim::app
   /// `<DIR>/mesh_boundary.vtu` and prints the report on rank 0. Returns the
   /// files written. MPI lives only inside this call: the contact scenes never
   /// start it.
-  std::vector<std::string> run_mesh_command(const MeshCommandOptions &options, std::ostream &out);
+  std::vector<std::string> run_mesh_command(const RingHousingCommandOptions &options, std::ostream &out);
 } // namespace fretsim::app

@@ -12,6 +12,9 @@
 #include <deal.II/numerics/vector_tools.h>
 
 #include <petscmat.h>
+#include <petscvec.h>
+
+#include <set>
 
 namespace fretsim::fem
 {
@@ -203,5 +206,35 @@ namespace fretsim::fem
   {
     pimpl->assemble_mass();
     return static_cast<Mat>(pimpl->mass);
+  }
+
+  std::vector<long> ElasticModel::owned_boundary_dofs(const std::vector<BoundaryId> &boundaries) const
+  {
+    std::set<dealii::types::boundary_id> ids;
+    for (const BoundaryId b : boundaries)
+      ids.insert(static_cast<dealii::types::boundary_id>(b));
+    const dealii::IndexSet on_boundary = dealii::DoFTools::extract_boundary_dofs(pimpl->dof_handler,
+                                                                               dealii::ComponentMask(), ids);
+    std::vector<long> result;
+    for (const auto i : on_boundary)
+      if (pimpl->owned_dofs.is_element(i))
+        result.push_back(static_cast<long>(i));
+    return result;
+  }
+
+  void ElasticModel::assemble_load_vector(const StaticLoad &load, _p_Vec *f) const
+  {
+    const auto rhs = assemble_load(*pimpl, load);
+    VecCopy(static_cast<const Vec &>(rhs), f);
+  }
+
+  DisplacementField ElasticModel::field_from_vector(_p_Vec *u) const
+  {
+    dealii::PETScWrappers::MPI::Vector owned(pimpl->owned_dofs, pimpl->communicator());
+    VecCopy(u, static_cast<const Vec &>(owned));
+    auto field          = std::make_unique<DisplacementField::Impl>();
+    field->model        = pimpl;
+    field->displacement = pimpl->ghosted(std::move(owned));
+    return DisplacementField(std::move(field));
   }
 } // namespace fretsim::fem

@@ -19,6 +19,7 @@
 #include <vector>
 
 struct _p_Mat; // PETSc's Mat is a pointer to this
+struct _p_Vec; // PETSc's Vec
 
 namespace fretsim::fem
 {
@@ -202,6 +203,15 @@ namespace fretsim::fem
     /// The mass matrix is assembled on first use.
     _p_Mat *petsc_stiffness();
     _p_Mat *petsc_mass();
+    /// Global indices (PETSc numbering) of the DoFs owned by this rank that
+    /// lie on any of `boundaries`, ascending. Collective.
+    std::vector<long> owned_boundary_dofs(const std::vector<BoundaryId> &boundaries) const;
+    /// The load vector f of `load` (through the constraints) into `f`, a
+    /// vector laid out like the matrices' columns. Collective.
+    void assemble_load_vector(const StaticLoad &load, _p_Vec *f) const;
+    /// A displacement field from a vector laid out like the matrices' columns
+    /// (copied, constraints applied): e.g. a reduced basis vector. Collective.
+    DisplacementField field_from_vector(_p_Vec *u) const;
 
     struct Impl;
     Impl       &impl() { return *pimpl; }

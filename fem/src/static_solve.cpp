@@ -1,6 +1,7 @@
 // Static solutions: assemble the load, solve K u = f, apply the constraints.
 #include "model_impl.h"
 #include "surface_grid_map_impl.h"
+#include "surface_point_map_impl.h"
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_values.h>
@@ -84,6 +85,10 @@ namespace fretsim::fem
         }
       for (const GridTractionLoad &g : load.grid_tractions)
         g.map->impl().add_forces(*g.tractions, rhs);
+      for (const PointForceLoad &p : load.point_forces)
+        p.map->impl().add_forces(p.forces, rhs);
+      if (!load.ball_loads.empty())
+        add_raceway_ball_loads(model, load.ball_loads, rhs);
       rhs.compress(dealii::VectorOperation::add);
       return rhs;
     }

@@ -72,11 +72,41 @@ namespace fretsim::fem
     const GridTractions  *tractions = nullptr;
   };
 
+  class SurfacePointMap;
+
+  /// Forces [N] at the points of a SurfacePointMap (one per point, Cartesian),
+  /// applied as f = Hᵀ F (surface_point_map.h); the map must outlive the solve.
+  struct PointForceLoad
+  {
+    const SurfacePointMap             *map = nullptr;
+    std::vector<std::array<double, 3>> forces;
+  };
+
+  /// A ball pressing on the raceway (surface_point_map.h for the discretisation):
+  /// Hertz pressure p = p₀ √(1 - (ξ/a)² - (η/b)²), p₀ = 3Q/(2πab), on an
+  /// elliptical patch centred at the contact point, ξ along the circumference
+  /// and η along the groove arc (axially on a plain bore), acting along the
+  /// contact normal (from the groove arc centre through the contact point):
+  /// the resultant on the ring is Q along that line.
+  struct RacewayBallLoad
+  {
+    RingGeometry ring;                            ///< the groove (or plain bore) the ball presses on
+    double       angle                     = 0.0; ///< θ of the ball centre [rad]
+    double       contact_angle             = 0.0; ///< α, from the mid-plane towards +z (0 on a plain bore) [rad]
+    double       force                     = 0.0; ///< resultant Q [N]
+    double       semi_axis_circumferential = 0.0; ///< a [m]
+    double       semi_axis_transverse      = 0.0; ///< b, along the groove arc [m]
+    unsigned int quadrature_rings          = 4;   ///< annuli of the patch quadrature
+    unsigned int quadrature_sectors        = 16;  ///< points per annulus (even: a symmetric rule)
+  };
+
   struct StaticLoad
   {
     std::vector<PressureLoad>     pressures;
     std::vector<InPlaneExpansion> expansions;
     std::vector<GridTractionLoad> grid_tractions;
+    std::vector<PointForceLoad>   point_forces;
+    std::vector<RacewayBallLoad>  ball_loads;
   };
 
   enum class LinearSolver

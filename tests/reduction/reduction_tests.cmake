@@ -1,0 +1,14 @@
+# Reduction tests (included from tests/CMakeLists.txt): one executable per
+# file, plus the Craig–Bampton verification again under `mpiexec -np 2`
+# (the same numbers from a distributed model).
+fretsim_add_test_folder(reduction fretsim_reduction Eigen3::Eigen)
+
+foreach(name verification_craig_bampton)
+  if(TARGET test_reduction_${name})
+    add_test(NAME reduction.mpi_np2.${name}
+      COMMAND ${MPIEXEC_EXECUTABLE} ${MPIEXEC_NUMPROC_FLAG} 2 ${MPIEXEC_PREFLAGS}
+              $<TARGET_FILE:test_reduction_${name}> ${MPIEXEC_POSTFLAGS})
+    set_tests_properties(reduction.mpi_np2.${name} PROPERTIES
+      LABELS verification PROCESSORS 2 ENVIRONMENT "${fretsim_mpi_env}" TIMEOUT 600)
+  endif()
+endforeach()

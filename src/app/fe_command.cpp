@@ -1,16 +1,673 @@
+// `fretsim fe`: full-FE reference solutions of a ring_housing configuration.
+// run_fe_command() reads and checks everything first (InputError, nothing
+// written), then starts MPI, builds the model, solves the requested analysis
+// and writes stress snapshots at sample points, displacement VTU and a summary.
 #include "app/fe_command.h"
 
-#include <stdexcept>
+#include "app/run_control.h"
+#include "output/stress_snapshots.h"
+#include "output/summary.h"
+#include "scenes/figures.h"
+
+#include <fretsim/fem/parallel_environment.h>
+#include <fretsim/fem/stress_sampler.h>
+#include <fretsim/fem/surface_point_map.h>
+#include <fretsim/fem/transient.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <optional>
+#include <ostream>
+#include <sstream>
 
 namespace fretsim::app
 {
+  namespace
+  {
+    using fem::BoundaryId;
+    using Clock = std::chrono::steady_clock;
+
+    constexpr double two_pi = 6.283185307179586;
+    const std::string section = "FE run/";
+
+    double seconds_since(const Clock::time_point start)
+    {
+      return std::chrono::duration<double>(Clock::now() - start).count();
+    }
+
+    std::string boundary_names()
+    {
+      std::string names;
+      for (unsigned int id = 1; id <= fem::max_boundary_id; ++id)
+        names += (names.empty() ? "" : "|") + fem::to_string(static_cast<BoundaryId>(id));
+      return names;
+    }
+
+    std::optional<BoundaryId> boundary_named(const std::string &name)
+    {
+      for (unsigned int id = 1; id <= fem::max_boundary_id; ++id)
+        if (fem::to_string(static_cast<BoundaryId>(id)) == name)
+          return static_cast<BoundaryId>(id);
+      return std::nullopt;
+    }
+
+    /// Boundaries a parametric mesh of `bodies` has.
+    std::vector<BoundaryId> boundaries_of(const RingHousingRequest &r)
+    {
+      std::vector<BoundaryId> ids{BoundaryId::side_faces};
+      if (r.bodies != "housing")
+        {
+          ids.push_back(BoundaryId::raceway);
+          if (r.ring.has_groove())
+            ids.push_back(BoundaryId::ring_lands);
+        }
+      if (r.bodies == "ring")
+        ids.push_back(BoundaryId::ring_outer);
+      if (r.bodies == "housing")
+        ids.push_back(BoundaryId::housing_bore);
+      if (r.bodies != "ring")
+        ids.push_back(BoundaryId::housing_outer);
+      if (r.divisions.sector_angle < two_pi * (1 - 1e-12))
+        {
+          ids.push_back(BoundaryId::sector_start);
+          ids.push_back(BoundaryId::sector_end);
+        }
+      return ids;
+    }
+
+    /// What the FE run section asks for, checked against the mesh.
+    struct FeRequest
+    {
+      std::string                analysis;
+      fem::SolverSettings        solver;
+      unsigned int               n_modes = 10;
+      std::vector<fem::Support>  supports;
+      double                     interference = 0.0;
+      std::optional<fem::PressureLoad> pressure;
+      unsigned int               balls     = 0;
+      double                     ball_load = 0.0;
+      bool                       radial_distribution = false;
+      double                     load_direction = 0.0, contact_angle = 0.0;
+      double                     semi_axis_circumferential = 0.0, semi_axis_transverse = 0.0;
+      double                     cage_speed = 0.0, time_step = 0.0;
+      unsigned int               steps = 0, snapshot_interval = 1;
+      unsigned int               points_per_line = 0, grid_circumferential = 0, grid_axial = 0;
+      fem::RingGeometry          ring; ///< the ring the balls run in and the sample lines follow
+    };
+
+    FeRequest read_fe_request(const SceneParameters &p, const RingHousingRequest &mesh)
+    {
+      FeRequest r;
+      r.analysis = p.get(section + "Analysis");
+      const std::string solver = p.get(section + "Solver");
+      r.solver.type = solver == "direct" ? fem::LinearSolver::direct :
+                      solver == "cg_amg" ? fem::LinearSolver::cg_amg :
+                                           fem::LinearSolver::cg_gamg;
+      r.solver.relative_tolerance = p.get_double(section + "Solver tolerance");
+      r.solver.max_iterations     = static_cast<unsigned int>(p.get_integer(section + "Maximum iterations"));
+      r.n_modes                   = static_cast<unsigned int>(p.get_integer(section + "Modes"));
+
+      // The ring as the Ring section gives it (for a Gmsh mesh, it must describe the file's ring).
+      r.ring.bore_radius          = p.get_double("Ring/Bore radius");
+      r.ring.outer_radius         = p.get_double("Ring/Outer radius");
+      r.ring.width                = p.get_double("Ring/Width");
+      r.ring.groove_radius        = p.get_double("Ring/Groove radius");
+      r.ring.groove_bottom_radius = p.get_double("Ring/Groove bottom radius");
+      const bool   parametric     = mesh.gmsh_file.empty();
+      const double sector         = parametric ? mesh.divisions.sector_angle : two_pi;
+      const bool   full_ring      = sector >= two_pi * (1 - 1e-12);
+      const std::vector<BoundaryId> present = boundaries_of(mesh);
+      auto has = [&](BoundaryId id) {
+        return !parametric || std::find(present.begin(), present.end(), id) != present.end();
+      };
+
+      // Supports.
+      const std::string clamped_path = section + "Supports/Clamped";
+      std::istringstream clamped(p.get(clamped_path));
+      for (std::string name; std::getline(clamped, name, ',');)
+        {
+          name.erase(0, name.find_first_not_of(" \t"));
+          name.erase(name.find_last_not_of(" \t") + 1);
+          if (name.empty() || name == "none")
+            continue;
+          const auto id = boundary_named(name);
+          if (!id)
+            p.reject(clamped_path, "names an unknown boundary '" + name +
+                                     "'; expected a comma-separated list of: " + boundary_names() + ", or none");
+          if (!has(*id))
+            p.reject(clamped_path, "names the boundary '" + name + "', which Mesh/Bodies = " + mesh.bodies +
+                                     " does not have");
+          r.supports.push_back({*id, true, true, true});
+        }
+      const bool clamps = !r.supports.empty();
+      if (p.get(section + "Supports/Axial faces") == "fixed")
+        r.supports.push_back({BoundaryId::side_faces, false, false, true});
+      if (p.get_bool(section + "Supports/Symmetry planes"))
+        {
+          if (!parametric || std::abs(sector - 0.25 * two_pi) > 1e-9)
+            p.reject(section + "Supports/Symmetry planes",
+                     "needs a parametric quarter model (Divisions/Sector angle = pi/2, cut faces on the planes "
+                     "y = 0 and x = 0)");
+          r.supports.push_back({BoundaryId::sector_start, false, true, false});
+          r.supports.push_back({BoundaryId::sector_end, true, false, false});
+        }
+      const bool held = clamps || (p.get(section + "Supports/Axial faces") == "fixed" &&
+                                   p.get_bool(section + "Supports/Symmetry planes"));
+      if (r.analysis != "modes" && !held)
+        p.reject(clamped_path, "leaves the body free: a " + r.analysis +
+                                 " analysis needs a clamped boundary, or Axial faces = fixed with Symmetry planes = "
+                                 "true on a quarter model");
+
+      // Loads.
+      r.interference = p.get_double(section + "Loads/Interference");
+      if (r.interference > 0.0 && mesh.bodies != "ring_in_housing")
+        p.reject(section + "Loads/Interference", "needs Mesh/Bodies = ring_in_housing (the ring fitted in the "
+                                                 "housing), not " + mesh.bodies);
+      const double pressure = p.get_double(section + "Loads/Pressure");
+      if (pressure != 0.0)
+        {
+          const auto id = boundary_named(p.get(section + "Loads/Pressure boundary"));
+          if (!has(*id))
+            p.reject(section + "Loads/Pressure boundary",
+                     "is '" + fem::to_string(*id) + "', which Mesh/Bodies = " + mesh.bodies + " does not have");
+          r.pressure = fem::PressureLoad{*id, pressure};
+        }
+      r.balls               = static_cast<unsigned int>(p.get_integer(section + "Loads/Balls"));
+      r.ball_load           = p.get_double(section + "Loads/Ball load");
+      r.radial_distribution = p.get(section + "Loads/Load distribution") == "radial";
+      r.load_direction      = p.get_double(section + "Loads/Load direction");
+      r.contact_angle       = p.get_double(section + "Loads/Contact angle");
+      r.semi_axis_circumferential = p.get_double(section + "Loads/Semi-axis circumferential");
+      r.semi_axis_transverse      = p.get_double(section + "Loads/Semi-axis transverse");
+      if (r.balls > 0 && r.ball_load > 0.0)
+        {
+          if (mesh.bodies == "housing")
+            p.reject(section + "Loads/Balls", "needs the ring meshed (Mesh/Bodies = ring or ring_in_housing)");
+          if (!full_ring)
+            p.reject(section + "Loads/Balls", "needs the full ring (Divisions/Sector angle = 2 pi): the balls "
+                                              "go round it");
+          if (!r.ring.has_groove() && r.contact_angle != 0.0)
+            p.reject(section + "Loads/Contact angle", "must be 0 on a plain bore (Ring/Groove radius = 0)");
+          if (r.ring.has_groove())
+            {
+              const double edge = std::asin(std::min(1.0, r.ring.groove_half_width() / r.ring.groove_radius));
+              if (std::abs(r.contact_angle) + r.semi_axis_transverse / r.ring.groove_radius >= edge)
+                {
+                  std::ostringstream s;
+                  s << "with Contact angle " << r.contact_angle << " rad puts the contact ellipse over the groove "
+                    << "edge: expected |Contact angle| + b / Ring/Groove radius < " << edge << " rad";
+                  p.reject(section + "Loads/Semi-axis transverse", s.str());
+                }
+            }
+        }
+      const bool loaded = r.interference > 0.0 || r.pressure || (r.balls > 0 && r.ball_load > 0.0);
+      if (r.analysis == "static" && !loaded)
+        p.reject(section + "Loads/Ball load", "is 0 and so are Interference and Pressure: a static analysis "
+                                              "needs a load");
+      if (r.analysis == "transient" && !(r.balls > 0 && r.ball_load > 0.0))
+        p.reject(section + "Loads/Ball load", "must be > 0 with Balls > 0: the transient moves the balls");
+
+      r.cage_speed        = p.get_double(section + "Transient/Cage speed");
+      r.time_step         = p.get_double(section + "Transient/Time step");
+      r.steps             = static_cast<unsigned int>(p.get_integer(section + "Transient/Steps"));
+      r.snapshot_interval = static_cast<unsigned int>(p.get_integer(section + "Transient/Snapshot interval"));
+
+      r.points_per_line      = static_cast<unsigned int>(p.get_integer(section + "Sampling/Points per line"));
+      r.grid_circumferential = static_cast<unsigned int>(p.get_integer(section + "Sampling/Grid circumferential"));
+      r.grid_axial           = static_cast<unsigned int>(p.get_integer(section + "Sampling/Grid axial"));
+      if ((r.grid_circumferential == 0) != (r.grid_axial == 0))
+        p.reject(section + "Sampling/Grid axial", "and Grid circumferential must both be 0 (no grid) or both > 0");
+      if (r.points_per_line == 0 && r.grid_circumferential == 0)
+        p.reject(section + "Sampling/Points per line", "is 0 and there is no grid: no stress sample points");
+      return r;
+    }
+
+    /// The balls at time t: positions, loads and Hertz semi-axes.
+    std::vector<fem::RacewayBallLoad> ball_loads(const FeRequest &r, const double time)
+    {
+      std::vector<fem::RacewayBallLoad> balls;
+      for (unsigned int i = 0; i < r.balls; ++i)
+        {
+          const double angle = r.load_direction + two_pi * i / r.balls + r.cage_speed * time;
+          double       load  = r.ball_load;
+          if (r.radial_distribution)
+            {
+              // Stribeck's distribution with a half-circle load zone (ε = 0.5):
+              // Q(ψ) = Q_max cos^(3/2) ψ for |ψ| < π/2.
+              const double psi = std::remainder(angle - r.load_direction, two_pi);
+              load = std::abs(psi) < 0.25 * two_pi ? r.ball_load * std::pow(std::cos(psi), 1.5) : 0.0;
+            }
+          if (!(load > 0.0))
+            continue;
+          fem::RacewayBallLoad b;
+          b.ring          = r.ring;
+          b.angle         = angle;
+          b.contact_angle = r.contact_angle;
+          b.force         = load;
+          // Hertz: the semi-axes grow as Q^(1/3).
+          const double scale            = std::cbrt(load / r.ball_load);
+          b.semi_axis_circumferential   = scale * r.semi_axis_circumferential;
+          b.semi_axis_transverse        = scale * r.semi_axis_transverse;
+          balls.push_back(b);
+        }
+      return balls;
+    }
+
+    fem::StaticLoad static_load(const FeRequest &r, const double time)
+    {
+      fem::StaticLoad load;
+      if (r.interference > 0.0)
+        load.expansions.push_back({fem::MaterialId::ring, r.interference / r.ring.outer_radius});
+      if (r.pressure)
+        load.pressures.push_back(*r.pressure);
+      if (r.balls > 0 && r.ball_load > 0.0)
+        load.ball_loads = ball_loads(r, time);
+      return load;
+    }
+
+    /// Stress sample points and the index range of each group.
+    struct SamplePoints
+    {
+      std::vector<fem::Point3>                                   points;
+      std::vector<std::pair<std::string, std::array<std::size_t, 2>>> groups;
+    };
+
+    SamplePoints sample_points(const FeRequest &r, const RingHousingRequest &mesh, const SceneParameters &p)
+    {
+      const double sector = mesh.gmsh_file.empty() ? mesh.divisions.sector_angle : two_pi;
+      const bool   full   = sector >= two_pi * (1 - 1e-12);
+      auto         theta  = [&](const unsigned int k, const unsigned int n) {
+        return sector * (k + (full ? 0.0 : 0.5)) / n;
+      };
+      // A point on a bonded interface could be taken in either body's cell:
+      // sample a thousandth of the wall inside the body meant.
+      const bool   ring_meshed = mesh.bodies != "housing";
+      const double inner = ring_meshed ? r.ring.bore_radius : r.ring.outer_radius;
+      const double outer = ring_meshed ? r.ring.outer_radius : p.get_double("Housing/Outer radius");
+      const double inset = 1e-3 * (outer - inner);
+
+      SamplePoints s;
+      auto         add_group = [&](const std::string &name, auto point_at, const unsigned int n) {
+        const std::size_t first = s.points.size();
+        for (unsigned int k = 0; k < n; ++k)
+          s.points.push_back(point_at(theta(k, n)));
+        s.groups.push_back({name, {first, s.points.size()}});
+      };
+      if (r.points_per_line > 0)
+        {
+          add_group(ring_meshed ? "ring_outer_line" : "housing_outer_line",
+                    [&](double t) { return fem::Point3{(outer - inset) * std::cos(t), (outer - inset) * std::sin(t), 0.0}; },
+                    r.points_per_line);
+          if (ring_meshed)
+            add_group("raceway_line",
+                      [&](double t) {
+                        const fem::Point3  x = fem::raceway_contact_point(r.ring, t, r.contact_angle);
+                        const fem::Vector3 n = fem::raceway_contact_normal(t, r.contact_angle);
+                        return fem::Point3{x[0] + inset * n[0], x[1] + inset * n[1], x[2] + inset * n[2]};
+                      },
+                      r.points_per_line);
+          else
+            add_group("housing_bore_line",
+                      [&](double t) { return fem::Point3{(inner + inset) * std::cos(t), (inner + inset) * std::sin(t), 0.0}; },
+                      r.points_per_line);
+        }
+      if (r.grid_circumferential > 0)
+        {
+          // Cell centres of a grid on the ring outer surface (housing: its
+          // bore), circumferential index fastest as in contact::SurfaceGrid.
+          const double radius = ring_meshed ? outer - inset : inner + inset;
+          const double width  = r.ring.width;
+          const std::size_t first = s.points.size();
+          for (unsigned int j = 0; j < r.grid_axial; ++j)
+            for (unsigned int i = 0; i < r.grid_circumferential; ++i)
+              {
+                const double t = sector * (i + 0.5) / r.grid_circumferential;
+                const double z = -0.5 * width + width * (j + 0.5) / r.grid_axial;
+                s.points.push_back({radius * std::cos(t), radius * std::sin(t), z});
+              }
+          s.groups.push_back({ring_meshed ? "ring_outer_grid" : "housing_bore_grid", {first, s.points.size()}});
+        }
+      return s;
+    }
+
+    /// Largest von Mises stress over all points and snapshots, where and when.
+    struct StressExtremes
+    {
+      double      von_mises = -1.0;
+      std::size_t point     = 0;
+      double      time      = 0.0;
+      std::array<double, 6> max{}, min{};
+      bool        any = false;
+
+      void add(const std::vector<double> &stress, const double t)
+      {
+        for (std::size_t k = 0; 6 * k < stress.size(); ++k)
+          {
+            const double *s  = &stress[6 * k];
+            const double  vm = std::sqrt(0.5 * ((s[0] - s[1]) * (s[0] - s[1]) + (s[1] - s[2]) * (s[1] - s[2]) +
+                                                (s[2] - s[0]) * (s[2] - s[0])) +
+                                         3.0 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]));
+            if (vm > von_mises)
+              von_mises = vm, point = k, time = t;
+            for (unsigned int c = 0; c < 6; ++c)
+              {
+                max[c] = any ? std::max(max[c], s[c]) : s[c];
+                min[c] = any ? std::min(min[c], s[c]) : s[c];
+              }
+            any = true;
+          }
+      }
+    };
+  } // namespace
+
   std::vector<ParameterSpec> fe_parameter_specs()
   {
-    return {};
+    using Spec = ParameterSpec;
+    const std::string s = section;
+    std::vector<Spec> specs;
+    specs.push_back(Spec::selection(s + "Analysis", "static",
+                                    "static: one load case (fit, pressure, balls at rest); modes: the lowest "
+                                    "eigenfrequencies and mode shapes; transient: the balls go round at the cage "
+                                    "speed (Newmark, average acceleration) [-].",
+                                    "static|modes|transient"));
+    specs.push_back(Spec::selection(s + "Solver", "direct",
+                                    "Linear solver of static solves: direct (MUMPS), cg_amg (CG + hypre "
+                                    "BoomerAMG), cg_gamg (CG + GAMG with the rigid-body modes) [-]. Modal and "
+                                    "transient runs factorise directly.",
+                                    "direct|cg_amg|cg_gamg"));
+    specs.push_back(Spec::real_range(s + "Solver tolerance", "1e-10",
+                                     "Relative residual at which CG stops (iterative solvers) [-].", 0.0, 1.0, true,
+                                     true));
+    specs.push_back(Spec::integer_range(s + "Maximum iterations", "5000", "CG iteration limit [-].", 1, 1000000));
+    specs.push_back(Spec::integer_range(s + "Modes", "10",
+                                        "Elastic modes wanted by a modal analysis (rigid-body modes of a free body "
+                                        "come on top) [-].",
+                                        1, 200));
+    Spec clamped;
+    clamped.path          = s + "Supports/Clamped";
+    clamped.kind          = Spec::Kind::text;
+    clamped.default_value = "housing_outer";
+    clamped.doc = "Comma-separated boundaries held fixed in all three directions, or none; names: " +
+                  boundary_names() + " [-].";
+    specs.push_back(clamped);
+    specs.push_back(Spec::selection(s + "Supports/Axial faces", "free",
+                                    "fixed: u_z = 0 on the side faces (plane strain, as a ring between shoulders "
+                                    "that do not let it widen); free: traction-free [-].",
+                                    "free|fixed"));
+    Spec symmetry;
+    symmetry.path          = s + "Supports/Symmetry planes";
+    symmetry.kind          = Spec::Kind::boolean;
+    symmetry.default_value = "false";
+    symmetry.doc = "Quarter model (Divisions/Sector angle = pi/2): the cut faces are symmetry planes (u_y = 0 on "
+                   "y = 0, u_x = 0 on x = 0) [-].";
+    specs.push_back(symmetry);
+    specs.push_back(Spec::non_negative(s + "Loads/Interference", "0",
+                                       "Radial interference delta of the ring in the housing (Mesh/Bodies = "
+                                       "ring_in_housing), imposed as the ring's in-plane expansion delta / R at the "
+                                       "interface radius R [m]."));
+    specs.push_back(Spec::selection(s + "Loads/Pressure boundary", "raceway",
+                                    "Boundary that carries the uniform Pressure [-].", boundary_names()));
+    specs.push_back(Spec::real_range(s + "Loads/Pressure", "0",
+                                     "Uniform pressure on Pressure boundary, positive pushing into the body [Pa].",
+                                     -1e12, 1e12));
+    specs.push_back(Spec::integer_range(s + "Loads/Balls", "9", "Number of balls Z, equally spaced [-].", 0, 200));
+    specs.push_back(Spec::non_negative(s + "Loads/Ball load", "0",
+                                       "Load Q of every ball (uniform), or of the most loaded ball (radial) [N]."));
+    specs.push_back(Spec::selection(s + "Loads/Load distribution", "radial",
+                                    "uniform: every ball carries Ball load; radial: Stribeck's distribution of a "
+                                    "radial bearing load with a half-circle load zone, Q(psi) = Q_max cos^1.5 psi for "
+                                    "|psi| < 90 deg from Load direction [-].",
+                                    "uniform|radial"));
+    specs.push_back(Spec::real_range(s + "Loads/Load direction", "0",
+                                     "Angle theta (from x towards y) of the radial load, where the most loaded ball "
+                                     "sits; ball 1 starts there [rad].",
+                                     -two_pi, two_pi));
+    specs.push_back(Spec::real_range(s + "Loads/Contact angle", "0",
+                                     "Contact angle alpha: the contact point sits on the groove arc at alpha from its "
+                                     "bottom towards +z, and the ball load acts along the line from the arc centre "
+                                     "through it [rad].",
+                                     -1.5, 1.5));
+    // A 6208 ball (D_w = 12.7 mm) on the outer raceway (f_o = 0.53) under
+    // 2 kN: Hertz (Harris, elliptic contact) gives 0.30 mm × 1.32 mm.
+    specs.push_back(Spec::positive(s + "Loads/Semi-axis circumferential", "3.0e-4",
+                                   "Hertz semi-axis a along the circumference at Ball load; other loads scale it by "
+                                   "(Q / Ball load)^(1/3) [m]."));
+    specs.push_back(Spec::positive(s + "Loads/Semi-axis transverse", "1.32e-3",
+                                   "Hertz semi-axis b across the groove (along its arc) at Ball load, scaled like "
+                                   "a [m]."));
+    // 6208 at 3000 rpm of the inner ring: Ω_cage = ω/2 (1 - D_w/d_m) with d_m = 60 mm.
+    specs.push_back(Spec::real_range(s + "Transient/Cage speed", "123.8",
+                                     "Angular speed of the cage, i.e. of the balls round the stationary outer ring "
+                                     "[rad/s].",
+                                     -1e6, 1e6));
+    specs.push_back(Spec::positive(s + "Transient/Time step", "1e-4", "Newmark time step [s]."));
+    specs.push_back(Spec::integer_range(s + "Transient/Steps", "50", "Number of time steps [-].", 1, 1000000));
+    specs.push_back(Spec::integer_range(s + "Transient/Snapshot interval", "1",
+                                        "A stress snapshot every this many steps (and at t = 0) [-].", 1, 1000000));
+    specs.push_back(Spec::integer_range(s + "Sampling/Points per line", "72",
+                                        "Stress sample points on each circumferential line: the ring outer surface "
+                                        "in the mid-plane and the raceway's contact line (housing alone: its outer "
+                                        "surface and bore), equally spaced from theta = 0 [-].",
+                                        0, 100000));
+    specs.push_back(Spec::integer_range(s + "Sampling/Grid circumferential", "0",
+                                        "Cells around of a stress sampling grid on the ring outer surface (housing "
+                                        "alone: its bore), sampled at cell centres; 0: no grid [-].",
+                                        0, 100000));
+    specs.push_back(Spec::integer_range(s + "Sampling/Grid axial", "0", "Cells across the width of that grid [-].",
+                                        0, 100000));
+    return specs;
   }
 
-  std::vector<std::string> run_fe_command(const RingHousingCommandOptions &, std::ostream &)
+  std::vector<std::string> run_fe_command(const RingHousingCommandOptions &options, std::ostream &out)
   {
-    throw std::logic_error("fretsim fe: not implemented yet");
+    const auto start = Clock::now();
+    // Everything that can be checked without MPI is checked before MPI starts
+    // and before anything is written.
+    const SceneParameters    parameters = read_ring_housing_parameters(options.config_file, options.overrides);
+    const RingHousingRequest mesh_request = read_ring_housing_request(parameters);
+    const FeRequest          request      = read_fe_request(parameters, mesh_request);
+    const SamplePoints       samples      = sample_points(request, mesh_request, parameters);
+    const std::filesystem::path directory =
+      options.output.empty() ?
+        std::filesystem::path("results") / (std::filesystem::path(options.config_file).stem().string() + "-fe") :
+        std::filesystem::path(options.output);
+
+    const fem::ParallelEnvironment mpi;
+    const bool                     root = fem::ParallelEnvironment::rank() == 0;
+    auto mesh = std::make_shared<fem::Mesh>(build_ring_housing_mesh(mesh_request, options.config_file));
+    const unsigned long n_cells = mesh->summary(1).n_cells;
+    std::map<fem::MaterialId, fem::Material> materials = mesh_request.materials;
+    fem::ElasticModel model(mesh, materials, mesh_request.degree, request.supports);
+    const double      setup_seconds = seconds_since(start);
+
+    fem::StressSampler sampler = [&] {
+      try
+        {
+          return fem::StressSampler(model, samples.points, fem::StressFrame::cylindrical);
+        }
+      catch (const std::invalid_argument &error)
+        {
+          // The lines follow the Ring section; a Gmsh mesh that is not that ring misses them.
+          throw InputError(options.config_file, "Ring", std::string("sample points off the mesh: ") + error.what());
+        }
+    }();
+
+    std::filesystem::create_directories(directory);
+    const std::string results_path = (directory / "results.h5").string();
+    std::optional<output::StressSnapshotFile> file;
+    if (root)
+      {
+        file.emplace(results_path, samples.points, "cylindrical", ring_housing_scene, parameters.to_prm());
+        std::string groups;
+        for (const auto &[name, range] : samples.groups)
+          groups += (groups.empty() ? "" : "; ") + name + " " + std::to_string(range[0]) + " " +
+                    std::to_string(range[1]);
+        file->results().set_root_attribute("point_groups", groups);
+        file->results().set_root_attribute("analysis", request.analysis);
+      }
+
+    std::vector<std::string> written;
+    StressExtremes           extremes;
+    output::Summary          summary;
+    double                   solve_seconds = 0.0, assembly_seconds = 0.0, sampling_seconds = 0.0;
+    std::vector<double> stress_offset; // a static state superposed on each snapshot
+    auto snapshot = [&](const fem::DisplacementField &u, const double time) {
+      const auto t0     = Clock::now();
+      auto       stress = sampler.evaluate(u);
+      for (std::size_t k = 0; k < stress_offset.size(); ++k)
+        stress[k] += stress_offset[k];
+      extremes.add(stress, time);
+      if (root)
+        file->append(time, stress);
+      sampling_seconds += seconds_since(t0);
+    };
+    std::vector<std::string> vtu_names;
+
+    if (request.analysis == "static")
+      {
+        const fem::DisplacementField u = model.solve_static(static_load(request, 0.0), request.solver);
+        snapshot(u, 0.0);
+        u.write_vtu(directory.string(), "displacement");
+        vtu_names.push_back("displacement");
+        summary.set("strain_energy_J", u.strain_energy());
+        if (mesh_request.bodies == "ring_in_housing")
+          {
+            // The contact pressure of the fit, the mean of both sides' σ_rr.
+            const auto housing = u.average_on_interface(fem::MaterialId::housing, fem::MaterialId::ring);
+            const auto ring    = u.average_on_interface(fem::MaterialId::ring, fem::MaterialId::housing);
+            summary.set("interface_pressure_Pa", -0.5 * (housing.s_rr + ring.s_rr));
+          }
+        assembly_seconds = model.timings().assemble_stiffness + model.timings().assemble_load;
+        solve_seconds    = model.timings().solve;
+        summary.set("iterations", static_cast<long long>(model.timings().iterations));
+      }
+    else if (request.analysis == "modes")
+      {
+        fem::ModalSettings settings;
+        settings.n_modes                 = request.n_modes;
+        const fem::ModalSolution modes   = model.solve_modes(settings);
+        for (std::size_t i = 0; i < modes.shapes.size(); ++i)
+          snapshot(modes.shapes[i], static_cast<double>(i));
+        for (std::size_t i = 0; i < std::min<std::size_t>(modes.shapes.size(), 6); ++i)
+          {
+            std::ostringstream name;
+            name << "mode_" << std::setw(2) << std::setfill('0') << i + 1;
+            modes.shapes[i].write_vtu(directory.string(), name.str());
+            vtu_names.push_back(name.str());
+          }
+        if (root)
+          file->results().write_dataset("/frequencies", "Hz", {modes.frequencies_hz.size()}, modes.frequencies_hz);
+        summary.set("frequencies_hz", modes.frequencies_hz);
+        summary.set("rigid_body_modes", static_cast<long long>(modes.n_rigid_body_modes));
+        assembly_seconds = model.timings().assemble_stiffness + model.timings().assemble_mass;
+        solve_seconds    = modes.seconds;
+      }
+    else
+      {
+        // The fit is static: solved once and superposed (linear elasticity),
+        // which also keeps its eigenstrain out of the integrator (whose
+        // displacement() does not carry eigenstrains, so its stresses would
+        // count the ring's free expansion as strain).
+        FeRequest dynamic    = request;
+        dynamic.interference = 0.0;
+        if (request.interference > 0.0)
+          {
+            fem::StaticLoad fit;
+            fit.expansions.push_back({fem::MaterialId::ring, request.interference / request.ring.outer_radius});
+            const fem::DisplacementField u_fit = model.solve_static(fit, request.solver);
+            stress_offset                      = sampler.evaluate(u_fit);
+            u_fit.write_vtu(directory.string(), "fit_displacement");
+            vtu_names.push_back("fit_displacement");
+          }
+        // Start from the static state under the balls at t = 0, so that the
+        // run shows the balls' passage rather than a sudden load's ringing.
+        const fem::StaticLoad        initial = static_load(dynamic, 0.0);
+        const fem::DisplacementField u0      = model.solve_static(initial, request.solver);
+        snapshot(u0, 0.0);
+        fem::NewmarkIntegrator integrator(model, request.time_step, initial, &u0, 0.0);
+        unsigned int           done = 0;
+        for (unsigned int step = 1; step <= request.steps && !interrupt_requested(); ++step, ++done)
+          {
+            integrator.advance(static_load(dynamic, step * request.time_step));
+            if (step % request.snapshot_interval == 0 || step == request.steps)
+              snapshot(integrator.displacement(), integrator.time());
+          }
+        integrator.displacement().write_vtu(directory.string(), "displacement");
+        vtu_names.push_back("displacement");
+        summary.set("steps_done", static_cast<long long>(done));
+        summary.set("final_time_s", integrator.time());
+        summary.set("kinetic_energy_J", integrator.kinetic_energy());
+        summary.set("strain_energy_J", integrator.strain_energy());
+        assembly_seconds = model.timings().assemble_stiffness + model.timings().assemble_mass +
+                           model.timings().assemble_load + integrator.factorisation_seconds();
+        solve_seconds = model.timings().solve + integrator.step_seconds();
+        summary.set("factorisation_s", integrator.factorisation_seconds());
+      }
+
+    std::vector<std::string> files;
+    if (root)
+      {
+        file->write_xdmf((directory / "results.xdmf").string());
+        file.reset(); // closes results.h5 before the plot script reads it
+        files.push_back(results_path);
+        files.push_back((directory / "results.xdmf").string());
+        // deal.II names the record <name>.pvtu or <name>_0.pvtu depending on its version.
+        for (const auto &name : vtu_names)
+          files.push_back(std::filesystem::exists(directory / (name + ".pvtu")) ?
+                            (directory / (name + ".pvtu")).string() :
+                            (directory / (name + "_0.pvtu")).string());
+
+        summary.set("scene", ring_housing_scene);
+        summary.set("command", std::string("fe"));
+        summary.set("analysis", request.analysis);
+        summary.set("bodies", mesh_request.bodies);
+        summary.set("element_degree", static_cast<long long>(mesh_request.degree));
+        summary.set("cells", static_cast<long long>(n_cells));
+        summary.set("dofs", static_cast<long long>(model.n_dofs()));
+        summary.set("ranks", static_cast<long long>(fem::ParallelEnvironment::n_ranks()));
+        summary.set("sample_points", static_cast<long long>(samples.points.size()));
+        for (const auto &[name, range] : samples.groups)
+          summary.set("points_" + name, std::vector<double>{double(range[0]), double(range[1])});
+        double total_ball_load = 0.0;
+        for (const auto &b : ball_loads(request, 0.0))
+          total_ball_load += b.force;
+        summary.set("ball_load_sum_N", total_ball_load);
+        // Mode shapes are mass-normalised: their stresses have no absolute scale.
+        if (extremes.any && request.analysis != "modes")
+          {
+            summary.set("max_von_mises_Pa", extremes.von_mises);
+            const auto &x = samples.points[extremes.point];
+            summary.set("max_von_mises_point_m", std::vector<double>{x[0], x[1], x[2]});
+            summary.set("max_von_mises_snapshot", extremes.time);
+            summary.set("stress_max_Pa", std::vector<double>(extremes.max.begin(), extremes.max.end()));
+            summary.set("stress_min_Pa", std::vector<double>(extremes.min.begin(), extremes.min.end()));
+            summary.set("stress_components", std::string("rr tt zz tz rz rt (cylindrical, tension positive)"));
+          }
+        output::Summary stages;
+        stages.set("setup", setup_seconds);
+        stages.set("assembly", assembly_seconds);
+        stages.set("solve", solve_seconds);
+        stages.set("stress_sampling", sampling_seconds);
+        summary.set_object("stage_times_s", stages);
+        summary.set("wall_time_s", seconds_since(start));
+        summary.set("interrupted", interrupt_requested());
+        summary.write((directory / "summary.json").string());
+        files.push_back((directory / "summary.json").string());
+
+        out << "fe " << request.analysis << ": " << model.n_dofs() << " DoFs (FE_Q" << mesh_request.degree << ", "
+            << n_cells << " cells, " << fem::ParallelEnvironment::n_ranks() << " rank(s)), setup "
+            << std::setprecision(3) << setup_seconds << " s, assembly " << assembly_seconds << " s, solve "
+            << solve_seconds << " s\n";
+        if (extremes.any)
+          out << "max von Mises stress at the sample points: " << std::setprecision(6) << extremes.von_mises
+              << " Pa\n";
+        if (options.plots)
+          for (const auto &figure : scenes::run_plot_script("plot_fe_results.py", {directory.string()}))
+            files.push_back(figure);
+      }
+    return files;
   }
 } // namespace fretsim::app

@@ -34,6 +34,10 @@ namespace fretsim::output
 
     static std::vector<std::string> component_names(const std::string &frame);
 
+    /// The underlying results file, for datasets and attributes beside the
+    /// snapshots (e.g. /frequencies of a modal run).
+    ResultsFile &results() { return file; }
+
   private:
     std::string         path;
     std::size_t         n_points;

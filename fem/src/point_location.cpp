@@ -32,13 +32,15 @@ namespace fretsim::fem
           reference[d] = std::clamp(reference[d], 0.0, 1.0);
         if (on_boundary)
           {
-            // Within a tenth of the cell from the face: a point deeper in a
-            // cell that merely touches the boundary is not on it.
+            // Within a quarter of the cell from the face (a Q1 chord across a
+            // coarse groove cell runs up to ~0.15 of the wall cell inside the
+            // exact arc): a point deeper in a cell that merely touches the
+            // boundary is not on it.
             bool on_face = false;
             for (unsigned int f = 0; f < located.first->n_faces(); ++f)
               if (located.first->face(f)->at_boundary() &&
                   located.first->face(f)->boundary_id() == static_cast<unsigned int>(*on_boundary) &&
-                  std::abs(reference[f / 2] - f % 2) <= 0.1)
+                  std::abs(reference[f / 2] - f % 2) <= 0.25)
                 {
                   reference[f / 2] = f % 2;
                   on_face          = true;

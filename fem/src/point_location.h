@@ -21,8 +21,8 @@ namespace fretsim::fem
   /// approximates a curved boundary (by chords for degree 1: a sagitta of a
   /// few % of a cell), so points up to a tenth of a cell outside are accepted
   /// and moved onto the cell; with `on_boundary`, onto the cell's face on that
-  /// boundary (only from within a tenth of the cell: a point deeper inside is
-  /// not on the boundary). A point on a face between two ranks' cells goes to the lower
+  /// boundary (only from within a quarter of the cell: a point deeper inside
+  /// is not on the boundary). A point on a face between two ranks' cells goes to the lower
   /// rank. Returns this rank's points; `missing` gets the indices no rank
   /// found (the same on every rank). Collective.
   std::vector<LocatedPoint> locate_points(const ElasticModel::Impl &model, const std::vector<dealii::Point<3>> &points,

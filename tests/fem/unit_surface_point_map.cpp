@@ -99,7 +99,7 @@ TEST(SurfacePointMap, BallLoadIsConservedExactly)
       // The points move onto the discrete surface, no farther than it lies
       // from the exact groove: at most the sagitta of a Q1 cell's chord across
       // the groove arc, r_g (1 - cos(Δψ/2)) = 1.5e-4 m for Δψ = 0.42 rad (Q2 is
-      // closer, and a point more than a tenth of a cell off is refused).
+      // closer, and a point more than a quarter of a cell in is refused).
       double moved = 0.0;
       for (std::size_t k = 0; k < patch.points.size(); ++k)
         moved = std::max(moved, std::hypot(map.points()[k][0] - patch.points[k][0],

@@ -27,8 +27,9 @@ namespace fretsim::fem
   class SurfacePointMap
   {
   public:
-    /// Locates every point on the boundary `surface`, up to a tenth of a cell
-    /// off it. Throws std::invalid_argument naming the first point that is
+    /// Locates every point on the boundary `surface`: up to a tenth of a cell
+    /// outside it, or a quarter of a cell inside (where the exact geometry
+    /// lies from the chords of a coarse Q1 mesh). Throws std::invalid_argument naming the first point that is
     /// not on that boundary. Collective.
     SurfacePointMap(const ElasticModel &model, const std::vector<Point3> &points, BoundaryId surface);
     ~SurfacePointMap();

@@ -1,8 +1,7 @@
 #pragma once
 // Finding the cells that hold given points, through the model's mapping (so on
 // the curved geometry), each point answered by exactly one rank. Shared by the
-// operators that act at points: SurfacePointMap, and the same search that
-// StressSampler and SurfaceGridMap do.
+// operators that act at points: StressSampler, SurfaceGridMap, SurfacePointMap.
 #include "model_impl.h"
 
 #include <optional>

@@ -1,14 +1,13 @@
 // Stresses at points: located once, ∇φ_i stored per point, evaluated by a
 // gather per snapshot (see stress_sampler.h for the method and its accuracy).
 #include "model_impl.h"
+#include "point_location.h"
 
 #include <fretsim/fem/stress_sampler.h>
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/quadrature.h>
 #include <deal.II/fe/fe_values.h>
-#include <deal.II/grid/grid_tools.h>
-#include <deal.II/grid/grid_tools_cache.h>
 
 #include <algorithm>
 #include <cmath>
@@ -49,53 +48,36 @@ namespace fretsim::fem
     pimpl->model  = model_in.shared_impl();
     pimpl->points = points;
     pimpl->frame  = frame;
-    const auto                 &model   = *pimpl->model;
-    const auto                 &tria    = model.mesh->impl().triangulation;
-    const unsigned int          me      = dealii::Utilities::MPI::this_mpi_process(model.communicator());
-    const unsigned int          n_ranks = dealii::Utilities::MPI::n_mpi_processes(model.communicator());
-    const unsigned int          n       = model.fe.n_dofs_per_cell();
-    dealii::GridTools::Cache<3> cache(tria, model.mapping);
+    const auto        &model = *pimpl->model;
+    const unsigned int n     = model.fe.n_dofs_per_cell();
 
-    std::vector<Impl::Sample> found;
-    std::vector<unsigned int> owner(points.size(), n_ranks);
-    auto                      hint = tria.begin_active();
-    for (std::size_t k = 0; k < points.size(); ++k)
+    std::vector<dealii::Point<3>> search;
+    search.reserve(points.size());
+    for (const Point3 &p : points)
+      search.emplace_back(p[0], p[1], p[2]);
+    std::vector<std::size_t> missing;
+    const auto               located = locate_points(model, search, std::nullopt, missing);
+    if (!missing.empty())
       {
-        const dealii::Point<3> p(points[k][0], points[k][1], points[k][2]);
-        const auto located = dealii::GridTools::find_active_cell_around_point(cache, p, hint, {}, 0.1);
-        if (located.first == tria.end() || !located.first->is_locally_owned())
-          continue;
-        hint                       = located.first;
-        dealii::Point<3> reference = located.second;
-        for (unsigned int d = 0; d < 3; ++d)
-          reference[d] = std::clamp(reference[d], 0.0, 1.0);
-
+        const Point3 &p = points[missing.front()];
+        throw std::invalid_argument("fem::StressSampler: point " + std::to_string(missing.front()) + " (" +
+                                    std::to_string(p[0]) + ", " + std::to_string(p[1]) + ", " +
+                                    std::to_string(p[2]) + ") m lies off the mesh");
+      }
+    for (const LocatedPoint &p : located)
+      {
         Impl::Sample s;
-        s.point = k;
-        s.cell  = dealii::DoFHandler<3>::active_cell_iterator(&tria, located.first->level(), located.first->index(),
-                                                             &model.dof_handler);
+        s.point = p.index;
+        s.cell  = p.cell;
         dealii::FEValues<3> fe_values(model.mapping, model.fe,
-                                      dealii::Quadrature<3>(std::vector<dealii::Point<3>>{reference}),
+                                      dealii::Quadrature<3>(std::vector<dealii::Point<3>>{p.reference}),
                                       dealii::update_gradients);
         fe_values.reinit(s.cell);
         s.gradients.resize(n);
         for (unsigned int i = 0; i < n; ++i)
           s.gradients[i] = fe_values.shape_grad(i, 0);
-        owner[k] = me;
-        found.push_back(std::move(s));
-      }
-
-    // A point on a face between two ranks' cells is found by both: the lowest
-    // rank takes it, so that one rank and one cell answer for every point.
-    dealii::Utilities::MPI::min(owner, model.communicator(), owner);
-    for (std::size_t k = 0; k < points.size(); ++k)
-      if (owner[k] == n_ranks)
-        throw std::invalid_argument("fem::StressSampler: point " + std::to_string(k) + " (" +
-                                    std::to_string(points[k][0]) + ", " + std::to_string(points[k][1]) + ", " +
-                                    std::to_string(points[k][2]) + ") m lies off the mesh");
-    for (auto &s : found)
-      if (owner[s.point] == me)
         pimpl->samples.push_back(std::move(s));
+      }
   }
 
   StressSampler StressSampler::on_grid(const ElasticModel &model, const CylinderGrid &grid, const StressFrame frame)

@@ -2,9 +2,9 @@
 // its transpose applied sample by sample.
 #include "surface_grid_map_impl.h"
 
+#include "point_location.h"
+
 #include <deal.II/base/mpi.h>
-#include <deal.II/grid/grid_tools.h>
-#include <deal.II/grid/grid_tools_cache.h>
 
 namespace fretsim::fem
 {
@@ -19,59 +19,35 @@ namespace fretsim::fem
     if (!(grid.radius > 0.0 && grid.nx > 0 && grid.ny > 0 && grid.hx > 0.0 && grid.hy > 0.0))
       throw std::invalid_argument("fem::SurfaceGridMap: the grid needs radius, nx, ny, hx, hy > 0");
 
-    const auto                &tria = model.mesh->impl().triangulation;
-    dealii::GridTools::Cache<3> cache(tria, model.mapping);
-    const unsigned int          me = dealii::Utilities::MPI::this_mpi_process(model.communicator());
-    const unsigned int          n_ranks = dealii::Utilities::MPI::n_mpi_processes(model.communicator());
-    const unsigned int          n = model.fe.n_dofs_per_cell();
-    const unsigned int          id = static_cast<unsigned int>(surface);
-
-    std::vector<Impl::Sample>   found;
-    std::vector<unsigned int>   owner(grid.size(), n_ranks);
-    auto                        hint = tria.begin_active();
+    const unsigned int n = model.fe.n_dofs_per_cell();
+    std::vector<dealii::Point<3>> centres;
+    centres.reserve(grid.size());
     for (int j = 0; j < grid.ny; ++j)
       for (int i = 0; i < grid.nx; ++i)
         {
-          const double           theta = grid.x(i) / grid.radius;
-          const dealii::Point<3> p(grid.radius * std::cos(theta), grid.radius * std::sin(theta), grid.y(j));
-          // The mapped surface only approximates the cylinder (by chords for
-          // degree 1: a sagitta of a few % of a cell): accept points that far
-          // outside a cell, then put them on the face.
-          const auto located = dealii::GridTools::find_active_cell_around_point(cache, p, hint, {}, 0.1);
-          if (located.first == tria.end() || !located.first->is_locally_owned())
-            continue;
-          hint = located.first;
-          dealii::Point<3> reference = located.second;
-          for (unsigned int d = 0; d < 3; ++d)
-            reference[d] = std::clamp(reference[d], 0.0, 1.0);
-          for (unsigned int f = 0; f < located.first->n_faces(); ++f)
-            if (located.first->face(f)->at_boundary() && located.first->face(f)->boundary_id() == id)
-              reference[f / 2] = f % 2;
-
-          Impl::Sample s;
-          s.grid_cell = static_cast<std::size_t>(j) * grid.nx + i;
-          s.cell      = dealii::DoFHandler<3>::active_cell_iterator(&tria, located.first->level(),
-                                                                    located.first->index(), &model.dof_handler);
-          s.shape.resize(n);
-          for (unsigned int k = 0; k < n; ++k)
-            s.shape[k] = model.fe.shape_value(k, reference);
-          s.e_r     = dealii::Tensor<1, 3>({std::cos(theta), std::sin(theta), 0.0});
-          s.e_theta = dealii::Tensor<1, 3>({-std::sin(theta), std::cos(theta), 0.0});
-          s.e_z     = dealii::Tensor<1, 3>({0.0, 0.0, 1.0});
-          owner[s.grid_cell] = me;
-          found.push_back(std::move(s));
+          const double theta = grid.x(i) / grid.radius;
+          centres.emplace_back(grid.radius * std::cos(theta), grid.radius * std::sin(theta), grid.y(j));
         }
-
-    // A centre on a face between two ranks' cells is found by both: the
-    // lowest rank takes it, so that every grid cell acts exactly once.
-    dealii::Utilities::MPI::min(owner, model.communicator(), owner);
-    for (const unsigned int o : owner)
-      if (o == n_ranks)
-        throw std::invalid_argument("fem::SurfaceGridMap: a grid cell centre lies off the mesh surface " +
-                                    to_string(surface) + " (check radius, extent and sector)");
-    for (auto &s : found)
-      if (owner[s.grid_cell] == me)
+    // Each centre is found by one rank and put on the discrete surface.
+    std::vector<std::size_t> missing;
+    const auto               located = locate_points(model, centres, surface, missing);
+    if (!missing.empty())
+      throw std::invalid_argument("fem::SurfaceGridMap: a grid cell centre lies off the mesh surface " +
+                                  to_string(surface) + " (check radius, extent and sector)");
+    for (const LocatedPoint &p : located)
+      {
+        const double theta = grid.x(static_cast<int>(p.index % grid.nx)) / grid.radius;
+        Impl::Sample s;
+        s.grid_cell = p.index;
+        s.cell      = p.cell;
+        s.shape.resize(n);
+        for (unsigned int k = 0; k < n; ++k)
+          s.shape[k] = model.fe.shape_value(k, p.reference);
+        s.e_r     = dealii::Tensor<1, 3>({std::cos(theta), std::sin(theta), 0.0});
+        s.e_theta = dealii::Tensor<1, 3>({-std::sin(theta), std::cos(theta), 0.0});
+        s.e_z     = dealii::Tensor<1, 3>({0.0, 0.0, 1.0});
         pimpl->samples.push_back(std::move(s));
+      }
   }
 
   SurfaceGridMap::~SurfaceGridMap()                             = default;

@@ -3,6 +3,7 @@
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/symmetric_tensor.h>
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/utilities.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_q.h>
@@ -14,6 +15,7 @@
 #include <petscmat.h>
 #include <petscvec.h>
 
+#include <array>
 #include <set>
 
 namespace fretsim::fem
@@ -58,6 +60,74 @@ namespace fretsim::fem
 
   const Lame &ElasticModel::Impl::material(const unsigned int material_id) const { return lame.at(material_id); }
 
+  namespace
+  {
+    /// True when every node's three displacement components carry
+    /// consecutive global indices 3k, 3k+1, 3k+2 (deal.II numbers the DoFs of
+    /// an FESystem object by object, all components together).
+    bool dofs_come_in_node_triples(const ElasticModel::Impl &model)
+    {
+      const unsigned int                           n = model.fe.n_dofs_per_cell();
+      std::vector<dealii::types::global_dof_index> dof_indices(n);
+      bool triples = model.owned_dofs.size() > 0 && model.owned_dofs.n_elements() % 3 == 0;
+      for (const auto &cell : model.dof_handler.active_cell_iterators())
+        {
+          if (!triples)
+            break;
+          if (!cell->is_locally_owned())
+            continue;
+          cell->get_dof_indices(dof_indices);
+          for (unsigned int i = 0; i < n && triples; ++i)
+            {
+              const unsigned int c     = model.fe.system_to_component_index(i).first;
+              const auto         first = dof_indices[i] - c;
+              // Component c of a support point sits c places after its x.
+              triples = first % 3 == 0 && i >= c && dof_indices[i - c] == first &&
+                        model.fe.system_to_component_index(i - c).first == 0;
+            }
+        }
+      return dealii::Utilities::MPI::min(triples ? 1 : 0, model.communicator()) == 1;
+    }
+
+    /// A PETSc matrix with the sparsity of the model's DoF couplings through
+    /// its constraints (the pattern of K and of M).
+    void reinit_with_dof_couplings(const ElasticModel::Impl &model, dealii::PETScWrappers::MPI::SparseMatrix &matrix)
+    {
+      dealii::DynamicSparsityPattern dsp(model.relevant_dofs);
+      dealii::DoFTools::make_sparsity_pattern(model.dof_handler, dsp, model.constraints, false);
+      dealii::SparsityTools::distribute_sparsity_pattern(dsp, model.owned_dofs, model.communicator(),
+                                                         model.relevant_dofs);
+      matrix.reinit(model.owned_dofs, model.owned_dofs, dsp, model.communicator());
+      // Block size 3 tells PETSc's GAMG the DoFs per node: with 1 (deal.II's
+      // default) it aggregates the scalar graph, 9× the edges of the nodal
+      // one, with six near-null vectors per scalar "node" — a far costlier
+      // setup for no better hierarchy.
+      if (dofs_come_in_node_triples(model))
+        if (MatSetBlockSize(static_cast<Mat>(matrix), 3) != 0)
+          throw std::runtime_error("fem::ElasticModel: PETSc failed in MatSetBlockSize");
+    }
+
+    /// Shape data of the scalar base element FE_Q(p) at the quadrature points
+    /// of one cell, and where its functions sit in the vector element: the
+    /// vector shape function of base function a and component c is
+    /// N_a e_c, so every cell matrix is made of 3×3 blocks per pair (a, b)
+    /// computed from the scalar N_a alone (a third of the shape functions
+    /// FEValues would evaluate on the FESystem, a ninth of the products).
+    struct ScalarBase
+    {
+      explicit ScalarBase(const dealii::FESystem<3> &fe)
+        : n(fe.base_element(0).n_dofs_per_cell())
+        , system_index(n)
+      {
+        for (unsigned int a = 0; a < n; ++a)
+          for (unsigned int c = 0; c < 3; ++c)
+            system_index[a][c] = fe.component_to_system_index(c, a);
+      }
+      unsigned int                            n;
+      std::vector<std::array<unsigned int, 3>> system_index;
+    };
+  } // namespace
+
   void ElasticModel::Impl::setup_dofs(const std::vector<Support> &supports)
   {
     const auto start = Clock::now();
@@ -74,26 +144,26 @@ namespace fretsim::fem
         constraints, dealii::ComponentMask({support.fix_x, support.fix_y, support.fix_z}));
     constraints.close();
 
-    dealii::DynamicSparsityPattern dsp(relevant_dofs);
-    dealii::DoFTools::make_sparsity_pattern(dof_handler, dsp, constraints, false);
-    dealii::SparsityTools::distribute_sparsity_pattern(dsp, owned_dofs, communicator(), relevant_dofs);
-    stiffness.reinit(owned_dofs, owned_dofs, dsp, communicator());
-    mass.reinit(owned_dofs, owned_dofs, dsp, communicator());
+    // M gets its pattern when it is first assembled: a static solve never
+    // needs it, and at 1M DoFs it would hold gigabytes.
+    reinit_with_dof_couplings(*this, stiffness);
     timings.setup_dofs = seconds_since(start);
   }
 
   void ElasticModel::Impl::assemble_stiffness()
   {
-    const auto                    start = Clock::now();
-    const dealii::QGauss<3>       quadrature(degree + 1);
-    dealii::FEValues<3>           fe_values(mapping, fe, quadrature,
-                                            dealii::update_gradients | dealii::update_JxW_values);
-    const unsigned int            n = fe.n_dofs_per_cell();
-    dealii::FullMatrix<double>    cell_matrix(n, n);
-    std::vector<dealii::types::global_dof_index> dof_indices(n);
-    std::vector<unsigned int>     component(n);
-    for (unsigned int i = 0; i < n; ++i)
-      component[i] = fe.system_to_component_index(i).first;
+    const auto              start = Clock::now();
+    const dealii::QGauss<3> quadrature(degree + 1);
+    const ScalarBase        base(fe);
+    // Gradients only: the mapping then computes Jacobians but no
+    // quadrature points, normals or Hessians.
+    dealii::FEValues<3>        fe_values(mapping, fe.base_element(0), quadrature,
+                                         dealii::update_gradients | dealii::update_JxW_values);
+    const unsigned int         n_q = quadrature.size(), nb = base.n;
+    dealii::FullMatrix<double> cell_matrix(fe.n_dofs_per_cell(), fe.n_dofs_per_cell());
+    std::vector<dealii::types::global_dof_index> dof_indices(fe.n_dofs_per_cell());
+    // ∇N_a at every point, [a][q][component], and the same times JxW.
+    std::vector<double> grad(nb * n_q * 3), weighted_grad(nb * n_q * 3);
 
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
@@ -101,30 +171,38 @@ namespace fretsim::fem
           continue;
         fe_values.reinit(cell);
         const Lame &m = material(cell->material_id());
-        cell_matrix   = 0.0;
-        // φ_i = N_i e_{c_i}: a(φ_j, φ_i) = λ ∂_{c_i}N_i ∂_{c_j}N_j
-        //   + μ (∂_{c_j}N_i ∂_{c_i}N_j + δ_{c_i c_j} ∇N_i·∇N_j).
-        for (unsigned int q = 0; q < quadrature.size(); ++q)
-          {
-            const double jxw = fe_values.JxW(q);
-            for (unsigned int i = 0; i < n; ++i)
-              {
-                const dealii::Tensor<1, 3> &gi = fe_values.shape_grad(i, q);
-                const unsigned int          ci = component[i];
-                for (unsigned int j = 0; j <= i; ++j)
+        for (unsigned int a = 0; a < nb; ++a)
+          for (unsigned int q = 0; q < n_q; ++q)
+            {
+              const dealii::Tensor<1, 3> &g   = fe_values.shape_grad(a, q);
+              const double                jxw = fe_values.JxW(q);
+              for (unsigned int c = 0; c < 3; ++c)
+                {
+                  grad[(a * n_q + q) * 3 + c]          = g[c];
+                  weighted_grad[(a * n_q + q) * 3 + c] = g[c] * jxw;
+                }
+            }
+        // With S_ab = ∫ ∇N_a ⊗ ∇N_b, the block of φ = N_a e_c, N_b e_d is
+        //   a(N_b e_d, N_a e_c) = λ S_ab[c][d] + μ S_ab[d][c] + μ δ_cd tr S_ab.
+        for (unsigned int a = 0; a < nb; ++a)
+          for (unsigned int b = 0; b <= a; ++b)
+            {
+              double       S[3][3] = {};
+              const double *ga = &weighted_grad[a * n_q * 3], *gb = &grad[b * n_q * 3];
+              for (unsigned int q = 0; q < n_q; ++q, ga += 3, gb += 3)
+                for (unsigned int c = 0; c < 3; ++c)
+                  for (unsigned int d = 0; d < 3; ++d)
+                    S[c][d] += ga[c] * gb[d];
+              const double trace = S[0][0] + S[1][1] + S[2][2];
+              for (unsigned int c = 0; c < 3; ++c)
+                for (unsigned int d = 0; d < 3; ++d)
                   {
-                    const dealii::Tensor<1, 3> &gj = fe_values.shape_grad(j, q);
-                    const unsigned int          cj = component[j];
-                    double value = m.lambda * gi[ci] * gj[cj] + m.mu * gi[cj] * gj[ci];
-                    if (ci == cj)
-                      value += m.mu * (gi * gj);
-                    cell_matrix(i, j) += value * jxw;
+                    const double value = m.lambda * S[c][d] + m.mu * S[d][c] + (c == d ? m.mu * trace : 0.0);
+                    const unsigned int i = base.system_index[a][c], j = base.system_index[b][d];
+                    cell_matrix(i, j) = value;
+                    cell_matrix(j, i) = value;
                   }
-              }
-          }
-        for (unsigned int i = 0; i < n; ++i)
-          for (unsigned int j = i + 1; j < n; ++j)
-            cell_matrix(i, j) = cell_matrix(j, i);
+            }
         cell->get_dof_indices(dof_indices);
         constraints.distribute_local_to_global(cell_matrix, dof_indices, stiffness);
       }
@@ -136,15 +214,18 @@ namespace fretsim::fem
   {
     if (mass_assembled)
       return;
-    const auto                 start = Clock::now();
-    const dealii::QGauss<3>    quadrature(degree + 1);
-    dealii::FEValues<3>        fe_values(mapping, fe, quadrature, dealii::update_values | dealii::update_JxW_values);
-    const unsigned int         n = fe.n_dofs_per_cell();
-    dealii::FullMatrix<double> cell_matrix(n, n);
-    std::vector<dealii::types::global_dof_index> dof_indices(n);
-    std::vector<unsigned int>  component(n);
-    for (unsigned int i = 0; i < n; ++i)
-      component[i] = fe.system_to_component_index(i).first;
+    const auto start = Clock::now();
+    // K's pattern (and block size), copied rather than built again.
+    mass.reinit(stiffness);
+    const dealii::QGauss<3> quadrature(degree + 1);
+    const ScalarBase        base(fe);
+    // N_a at the points depends on the reference cell only; the mapping
+    // enters through JxW.
+    dealii::FEValues<3>        fe_values(mapping, fe.base_element(0), quadrature,
+                                         dealii::update_values | dealii::update_JxW_values);
+    const unsigned int         n_q = quadrature.size(), nb = base.n;
+    dealii::FullMatrix<double> cell_matrix(fe.n_dofs_per_cell(), fe.n_dofs_per_cell());
+    std::vector<dealii::types::global_dof_index> dof_indices(fe.n_dofs_per_cell());
 
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
@@ -152,18 +233,23 @@ namespace fretsim::fem
           continue;
         fe_values.reinit(cell);
         const double rho = material(cell->material_id()).rho;
-        cell_matrix      = 0.0;
-        for (unsigned int q = 0; q < quadrature.size(); ++q)
-          {
-            const double w = rho * fe_values.JxW(q);
-            for (unsigned int i = 0; i < n; ++i)
-              for (unsigned int j = 0; j <= i; ++j)
-                if (component[i] == component[j])
-                  cell_matrix(i, j) += fe_values.shape_value(i, q) * fe_values.shape_value(j, q) * w;
-          }
-        for (unsigned int i = 0; i < n; ++i)
-          for (unsigned int j = i + 1; j < n; ++j)
-            cell_matrix(i, j) = cell_matrix(j, i);
+        // M couples equal components only: ρ ∫ N_a N_b in the three diagonal
+        // positions of each 3×3 block, zero elsewhere.
+        cell_matrix = 0.0;
+        for (unsigned int a = 0; a < nb; ++a)
+          for (unsigned int b = 0; b <= a; ++b)
+            {
+              double value = 0.0;
+              for (unsigned int q = 0; q < n_q; ++q)
+                value += fe_values.shape_value(a, q) * fe_values.shape_value(b, q) * fe_values.JxW(q);
+              value *= rho;
+              for (unsigned int c = 0; c < 3; ++c)
+                {
+                  const unsigned int i = base.system_index[a][c], j = base.system_index[b][c];
+                  cell_matrix(i, j) = value;
+                  cell_matrix(j, i) = value;
+                }
+            }
         cell->get_dof_indices(dof_indices);
         constraints.distribute_local_to_global(cell_matrix, dof_indices, mass);
       }

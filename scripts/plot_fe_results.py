@@ -6,7 +6,7 @@ each figure's path on a line of its own.
 
   fe_stress.png   static and transient runs: hoop and radial stress along
                   each circumferential sample line against theta (transient:
-                  every snapshot, coloured by time)
+                  the range over the run with the first and last snapshot)
   fe_modes.png    modal runs: the eigenfrequencies
 
 Needs Debian's python3-matplotlib and python3-h5py (run with /usr/bin/python3).
@@ -58,9 +58,17 @@ def stress_figure(directory, f):
         for col, (component, label) in enumerate(((1, "hoop stress $\\sigma_{\\theta\\theta}$"),
                                                   (0, "radial stress $\\sigma_{rr}$"))):
             ax = axes[row][col]
-            for s in range(stress.shape[0]):
-                ax.plot(theta, stress[s, first:last, component] / 1e6, color=colours[s], lw=1.0,
-                        label=f"t = {time[s] * 1e3:.2f} ms" if stress.shape[0] > 1 and s in (0, stress.shape[0] - 1) else None)
+            values = stress[:, first:last, component] / 1e6
+            if stress.shape[0] > 6:
+                # Many snapshots: their envelope, and the first and last.
+                ax.fill_between(theta, values.min(axis=0), values.max(axis=0), color="0.8",
+                                label="range over the run")
+                shown = (0, stress.shape[0] - 1)
+            else:
+                shown = range(stress.shape[0])
+            for s in shown:
+                ax.plot(theta, values[s], color=colours[s], lw=1.0,
+                        label=f"t = {time[s] * 1e3:.2f} ms" if stress.shape[0] > 1 else None)
             ax.set_xlabel("theta [deg]")
             ax.set_ylabel(f"{label} [MPa]")
             ax.set_title(name.replace("_", " "))

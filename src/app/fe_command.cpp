@@ -278,10 +278,10 @@ namespace fretsim::app
     SamplePoints sample_points(const FeRequest &r, const RingHousingRequest &mesh, const SceneParameters &p)
     {
       const double sector = mesh.gmsh_file.empty() ? mesh.divisions.sector_angle : two_pi;
-      const bool   full   = sector >= two_pi * (1 - 1e-12);
-      auto         theta  = [&](const unsigned int k, const unsigned int n) {
-        return sector * (k + (full ? 0.0 : 0.5)) / n;
-      };
+      // Mid-way between equal steps: off the cut faces of a sector, and off
+      // the cell faces whenever the cells divide the points evenly (the
+      // stress jumps across a face, and which side is sampled is arbitrary).
+      auto theta = [&](const unsigned int k, const unsigned int n) { return sector * (k + 0.5) / n; };
       // A point on a bonded interface could be taken in either body's cell:
       // sample a thousandth of the wall inside the body meant.
       const bool   ring_meshed = mesh.bodies != "housing";
@@ -450,7 +450,7 @@ namespace fretsim::app
     specs.push_back(Spec::integer_range(s + "Sampling/Points per line", "72",
                                         "Stress sample points on each circumferential line: the ring outer surface "
                                         "in the mid-plane and the raceway's contact line (housing alone: its outer "
-                                        "surface and bore), equally spaced from theta = 0 [-].",
+                                        "surface and bore), at theta = (k + 1/2) sector / n [-].",
                                         0, 100000));
     specs.push_back(Spec::integer_range(s + "Sampling/Grid circumferential", "0",
                                         "Cells around of a stress sampling grid on the ring outer surface (housing "

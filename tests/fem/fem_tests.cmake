@@ -19,3 +19,14 @@ foreach(name unit_parallel_consistency unit_surface_grid_map unit_surface_point_
       LABELS unit PROCESSORS 2 ENVIRONMENT "${fretsim_mpi_env}" TIMEOUT 300)
   endif()
 endforeach()
+
+# The scaling cases add the ranks' peak memory (MPI_Allreduce); the ~1M-DoF
+# case runs on both cores.
+if(TARGET test_fem_slow_scaling)
+  target_link_libraries(test_fem_slow_scaling PRIVATE MPI::MPI_C)
+  add_test(NAME fem.mpi_np2.slow_scaling_1M
+    COMMAND ${MPIEXEC_EXECUTABLE} ${MPIEXEC_NUMPROC_FLAG} 2 ${MPIEXEC_PREFLAGS}
+            $<TARGET_FILE:test_fem_slow_scaling> --gtest_filter=Scaling.Ring1M ${MPIEXEC_POSTFLAGS})
+  set_tests_properties(fem.mpi_np2.slow_scaling_1M PROPERTIES
+    LABELS slow PROCESSORS 2 ENVIRONMENT "${fretsim_mpi_env}" TIMEOUT 1800)
+endif()

@@ -2,10 +2,6 @@
 // shifted operator K - σM factorised once by MUMPS.
 #include "model_impl.h"
 
-#include <deal.II/lac/slepc_solver.h>
-#include <deal.II/lac/slepc_spectral_transformation.h>
-#include <deal.II/lac/solver_control.h>
-
 #include <slepceps.h>
 
 #include <algorithm>
@@ -15,34 +11,22 @@ namespace fretsim::fem
 {
   namespace
   {
-    /// deal.II's Krylov–Schur wrapper with the spectral transformation's inner
-    /// solve set to a direct factorisation; deal.II only offers iterative
-    /// solvers there, which need a tight tolerance to keep the Krylov basis
-    /// accurate and converge slowly on elasticity.
-    class DirectShiftInvertKrylovSchur : public dealii::SLEPcWrappers::SolverKrylovSchur
+    void check(const PetscErrorCode code, const char *call)
     {
-    public:
-      using dealii::SLEPcWrappers::SolverKrylovSchur::SolverKrylovSchur;
+      if (code != 0)
+        throw std::runtime_error(std::string("fem::ElasticModel::solve_modes: SLEPc/PETSc error ") +
+                                 std::to_string(static_cast<int>(code)) + " in " + call);
+    }
+#define FRETSIM_SLEPC(call) check((call), #call)
 
-      void factorise_with_mumps()
+    /// Owns a SLEPc eigensolver.
+    struct Eigensolver
+    {
+      EPS eps = nullptr;
+      ~Eigensolver()
       {
-        ST  st;
-        KSP ksp;
-        PC  pc;
-        check(EPSGetST(eps, &st));
-        check(STGetKSP(st, &ksp));
-        check(KSPSetType(ksp, KSPPREONLY));
-        check(KSPGetPC(ksp, &pc));
-        // K - σM with σ < 0 is symmetric positive definite: Cholesky.
-        check(PCSetType(pc, PCCHOLESKY));
-        check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
-      }
-
-    private:
-      static void check(const PetscErrorCode code)
-      {
-        if (code != 0)
-          throw std::runtime_error("fem::ElasticModel::solve_modes: SLEPc/PETSc error " + std::to_string(code));
+        if (eps != nullptr)
+          EPSDestroy(&eps);
       }
     };
   } // namespace
@@ -54,34 +38,57 @@ namespace fretsim::fem
     model.assemble_mass();
 
     // Up to six rigid-body modes come first (nearest to the shift).
-    const unsigned int n_wanted = std::min<unsigned long>(settings.n_modes + 6, model.dof_handler.n_dofs() / 2);
-    const double       omega_shift = 2.0 * M_PI * settings.shift_hz;
-    const double       sigma       = -omega_shift * omega_shift;
+    const PetscInt n_wanted    = std::min<unsigned long>(settings.n_modes + 6, model.dof_handler.n_dofs() / 2);
+    const double   omega_shift = 2.0 * M_PI * settings.shift_hz;
+    const double   sigma       = -omega_shift * omega_shift;
 
-    dealii::SolverControl                             control(1000, settings.tolerance, false, false);
-    DirectShiftInvertKrylovSchur                      eigensolver(control, model.communicator());
-    dealii::SLEPcWrappers::TransformationShiftInvert  shift_invert(
-      model.communicator(), dealii::SLEPcWrappers::TransformationShiftInvert::AdditionalData(sigma));
-    eigensolver.set_transformation(shift_invert);
-    eigensolver.factorise_with_mumps();
-    eigensolver.set_problem_type(EPS_GHEP);
-    eigensolver.set_target_eigenvalue(sigma);
-    eigensolver.set_which_eigenpairs(EPS_TARGET_MAGNITUDE);
+    // SLEPc directly rather than deal.II's wrapper: the wrapper's convergence
+    // test is absolute, which under shift-and-invert (θ = 1/(λ - σ) ~ 1e-10)
+    // stops the iteration before the second member of a degenerate pair (the
+    // cos nθ / sin nθ modes of every ring) has emerged from round-off.
+    Eigensolver solver;
+    FRETSIM_SLEPC(EPSCreate(model.communicator(), &solver.eps));
+    EPS eps = solver.eps;
+    FRETSIM_SLEPC(EPSSetOperators(eps, static_cast<Mat>(model.stiffness), static_cast<Mat>(model.mass)));
+    FRETSIM_SLEPC(EPSSetProblemType(eps, EPS_GHEP));
+    FRETSIM_SLEPC(EPSSetType(eps, EPSKRYLOVSCHUR));
+    FRETSIM_SLEPC(EPSSetDimensions(eps, n_wanted, PETSC_DEFAULT, PETSC_DEFAULT));
+    FRETSIM_SLEPC(EPSSetTolerances(eps, settings.tolerance, 1000));
+    FRETSIM_SLEPC(EPSSetConvergenceTest(eps, EPS_CONV_REL));
+    ST  st;
+    KSP ksp;
+    PC  pc;
+    FRETSIM_SLEPC(EPSGetST(eps, &st));
+    FRETSIM_SLEPC(STSetType(st, STSINVERT));
+    FRETSIM_SLEPC(STGetKSP(st, &ksp));
+    FRETSIM_SLEPC(KSPSetType(ksp, KSPPREONLY));
+    FRETSIM_SLEPC(KSPGetPC(ksp, &pc));
+    // K - σM with σ < 0 is symmetric positive definite: Cholesky.
+    FRETSIM_SLEPC(PCSetType(pc, PCCHOLESKY));
+    FRETSIM_SLEPC(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+    FRETSIM_SLEPC(EPSSetTarget(eps, sigma));
+    FRETSIM_SLEPC(EPSSetWhichEigenpairs(eps, EPS_TARGET_MAGNITUDE));
+    FRETSIM_SLEPC(EPSSolve(eps));
+    PetscInt n_converged = 0;
+    FRETSIM_SLEPC(EPSGetConverged(eps, &n_converged));
+    if (n_converged < n_wanted)
+      throw std::runtime_error("fem::ElasticModel::solve_modes: only " + std::to_string(n_converged) + " of " +
+                               std::to_string(n_wanted) + " eigenpairs converged");
 
-    std::vector<PetscScalar>                        eigenvalues;
-    std::vector<dealii::PETScWrappers::MPI::Vector> eigenvectors(
-      n_wanted, dealii::PETScWrappers::MPI::Vector(model.owned_dofs, model.communicator()));
-    eigensolver.solve(model.stiffness, model.mass, eigenvalues, eigenvectors, n_wanted);
-
-    std::vector<unsigned int> order(eigenvalues.size());
-    std::iota(order.begin(), order.end(), 0u);
-    std::sort(order.begin(), order.end(), [&](unsigned int a, unsigned int b) { return eigenvalues[a] < eigenvalues[b]; });
+    std::vector<std::pair<double, PetscInt>> order;
+    for (PetscInt k = 0; k < n_converged; ++k)
+      {
+        PetscScalar value, imaginary;
+        FRETSIM_SLEPC(EPSGetEigenvalue(eps, k, &value, &imaginary));
+        order.emplace_back(value, k);
+      }
+    std::sort(order.begin(), order.end());
 
     ModalSolution result;
     const double  cutoff = 2.0 * M_PI * settings.rigid_body_cutoff_hz;
-    for (const unsigned int k : order)
+    for (const auto &[eigenvalue, k] : order)
       {
-        const double omega = std::sqrt(std::max(0.0, static_cast<double>(eigenvalues[k])));
+        const double omega = std::sqrt(std::max(0.0, eigenvalue));
         if (omega < cutoff)
           {
             ++result.n_rigid_body_modes;
@@ -89,10 +96,16 @@ namespace fretsim::fem
           }
         if (result.frequencies_hz.size() == settings.n_modes)
           break;
+        dealii::PETScWrappers::MPI::Vector shape(model.owned_dofs, model.communicator());
+        FRETSIM_SLEPC(EPSGetEigenvector(eps, k, static_cast<const Vec &>(shape), nullptr));
+        // Mass-normalise: φᵀ M φ = 1.
+        dealii::PETScWrappers::MPI::Vector mass_times_shape(model.owned_dofs, model.communicator());
+        model.mass.vmult(mass_times_shape, shape);
+        shape /= std::sqrt(shape * mass_times_shape);
         result.frequencies_hz.push_back(omega / (2.0 * M_PI));
         auto field          = std::make_unique<DisplacementField::Impl>();
         field->model        = pimpl;
-        field->displacement = model.ghosted(eigenvectors[k]);
+        field->displacement = model.ghosted(shape);
         result.shapes.emplace_back(std::move(field));
       }
     result.seconds = seconds_since(start);

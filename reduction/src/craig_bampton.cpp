@@ -517,6 +517,7 @@ namespace fretsim::reduction
   CraigBampton::~CraigBampton() = default;
 
   const ReductionTimings &CraigBampton::timings() const { return impl->timings; }
+  std::size_t             CraigBampton::size() const { return impl->basis.size(); }
 
   ReducedMatrices CraigBampton::run()
   {

@@ -146,6 +146,10 @@ namespace fretsim::app
                 "fixed-interface modes) written to an HDF5 model file",
       "Model file (default: results/<config name>-model.h5)");
     reduce->add_flag("--no-plots", no_plots, "Do not write PNG figures");
+    bool reduction_study = false;
+    reduce->add_flag("--study", reduction_study,
+                     "Error against run time instead: reduce for every (m, n_cc) of the Reduction/Study lists and "
+                     "compare with the full FE model (table, CSV, PNG; -o is then a directory)");
     reduce->add_flag("-q,--quiet", quiet, "No progress display");
     auto *bench = app.add_subcommand("bench", "Error against run time of the numerical approximations");
     bench->require_subcommand(1);
@@ -197,7 +201,9 @@ namespace fretsim::app
             else
               {
                 install_interrupt_handlers();
-                const auto files = *fe ? run_fe_command(fe_options, std::cout) : run_reduce_command(fe_options, std::cout);
+                const auto files = *fe              ? run_fe_command(fe_options, std::cout) :
+                                   reduction_study ? run_reduction_study(fe_options, std::cout) :
+                                                     run_reduce_command(fe_options, std::cout);
                 for (const auto &file : files)
                   std::cout << (file.size() > 4 && file.substr(file.size() - 4) == ".png" ? "figure:   " : "written:  ")
                             << std::filesystem::absolute(file).string() << "\n";

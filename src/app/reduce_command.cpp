@@ -1,16 +1,565 @@
 #include "app/reduce_command.h"
 
-#include <stdexcept>
+#include "app/progress.h"
+#include "scenes/figures.h"
+
+#include <fretsim/fem/parallel_environment.h>
+#include <fretsim/fem/stress_sampler.h>
+#include <fretsim/fem/transient.h>
+#include <fretsim/reduction/craig_bampton.h>
+#include <fretsim/reduction/reduced_model.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <ostream>
+#include <sstream>
+
+#include "app/build_info.h"
 
 namespace fretsim::app
 {
+  namespace
+  {
+    using fem::BoundaryId;
+    using Clock = std::chrono::steady_clock;
+
+    double seconds_since(const Clock::time_point start)
+    {
+      return std::chrono::duration<double>(Clock::now() - start).count();
+    }
+
+    /// What `reduce` is asked for, read and cross-checked before MPI starts.
+    struct ReduceRequest
+    {
+      RingHousingRequest            body;
+      reduction::ReductionSettings  settings;
+      unsigned int                  grid_cells_circumferential = 0, grid_cells_axial = 0;
+      unsigned int                  points_per_line            = 0;
+      bool                          compare_with_full          = true;
+      std::vector<unsigned int>     study_fixed_interface, study_interface;
+      std::string                   input_hash;
+      std::map<std::string, std::string> provenance;
+    };
+
+    std::vector<BoundaryId> parse_surfaces(const SceneParameters &p, const std::string &path)
+    {
+      std::vector<BoundaryId> surfaces;
+      std::stringstream       list(p.get(path));
+      for (std::string name; std::getline(list, name, ',');)
+        {
+          name.erase(0, name.find_first_not_of(" \t"));
+          name.erase(name.find_last_not_of(" \t") + 1);
+          bool found = false;
+          for (unsigned int id = 1; id <= fem::max_boundary_id; ++id)
+            if (fem::to_string(static_cast<BoundaryId>(id)) == name)
+              {
+                surfaces.push_back(static_cast<BoundaryId>(id));
+                found = true;
+              }
+          if (!found)
+            p.reject(path, "expected a comma-separated list of boundary names (raceway, ring_lands, ring_outer, "
+                           "housing_bore, housing_outer, side_faces, sector_start, sector_end), got '" +
+                             name + "'");
+        }
+      if (surfaces.empty())
+        p.reject(path, "names no surface; at least one coupling surface is needed");
+      return surfaces;
+    }
+
+    std::vector<unsigned int> counts(const SceneParameters &p, const std::string &path)
+    {
+      std::vector<unsigned int> result;
+      for (const double value : p.get_double_list(path))
+        {
+          if (value != std::floor(value))
+            p.reject(path, "expected whole numbers, got " + std::to_string(value));
+          result.push_back(static_cast<unsigned int>(value));
+        }
+      return result;
+    }
+
+    /// The inputs that define the reduced model, as canonical text: every
+    /// parameter of the body and reduction sections (not the study lists, not
+    /// the output), plus the mesh file's bytes.
+    std::string input_text(const SceneParameters &p, const RingHousingRequest &body)
+    {
+      std::ostringstream text;
+      for (const auto &spec : p.specs())
+        if (spec.path.rfind("Reduction/Study", 0) != 0 && spec.path.rfind("FE run", 0) != 0)
+          text << spec.path << '=' << p.get(spec.path) << '\n';
+      if (!body.gmsh_file.empty())
+        {
+          std::ifstream mesh(body.gmsh_file, std::ios::binary);
+          text << mesh.rdbuf();
+        }
+      return text.str();
+    }
+
+    ReduceRequest read_request(const SceneParameters &p)
+    {
+      ReduceRequest r;
+      r.body = read_ring_housing_request(p);
+      if (r.body.bodies != "ring")
+        p.reject("Mesh/Bodies", "must be 'ring' for `reduce`: the outer ring is the flexible body (the housing is "
+                                "rigid in the co-simulation)");
+      r.settings.coupling_surfaces                 = parse_surfaces(p, "Reduction/Coupling surfaces");
+      r.settings.n_fixed_interface_modes           = static_cast<unsigned int>(p.get_integer("Reduction/Fixed-interface modes"));
+      r.settings.n_characteristic_constraint_modes = static_cast<unsigned int>(p.get_integer("Reduction/Characteristic constraint modes"));
+      r.settings.interface_shift_hz                = p.get_double("Reduction/Interface shift");
+      r.settings.eigen_tolerance                   = p.get_double("Reduction/Eigen tolerance");
+      r.grid_cells_circumferential = static_cast<unsigned int>(p.get_integer("Reduction/Interface grid circumferential cells"));
+      r.grid_cells_axial           = static_cast<unsigned int>(p.get_integer("Reduction/Interface grid axial cells"));
+      r.points_per_line            = static_cast<unsigned int>(p.get_integer("Reduction/Sample points per line"));
+      r.compare_with_full          = p.get_bool("Reduction/Compare with full FE");
+      r.study_fixed_interface      = counts(p, "Reduction/Study fixed-interface modes");
+      r.study_interface            = counts(p, "Reduction/Study characteristic constraint modes");
+      if (r.settings.n_fixed_interface_modes == 0 && r.settings.n_characteristic_constraint_modes > 0 &&
+          r.settings.interface_shift_hz == 0.0)
+        p.reject("Reduction/Interface shift", "must be > 0 when no fixed-interface mode is kept (it is derived from "
+                                              "the lowest one otherwise)");
+      const auto has = [&](BoundaryId id) {
+        return std::find(r.settings.coupling_surfaces.begin(), r.settings.coupling_surfaces.end(), id) !=
+               r.settings.coupling_surfaces.end();
+      };
+      if (r.grid_cells_circumferential > 0 && !has(BoundaryId::ring_outer))
+        p.reject("Reduction/Interface grid circumferential cells",
+                 "needs ring_outer among Reduction/Coupling surfaces (the grid lies on the ring outer surface); "
+                 "set it to 0 for no grid");
+      r.input_hash = reduction::fingerprint(input_text(p, r.body));
+      r.provenance["program"]  = std::string("fretsim ") + FRETSIM_VERSION;
+      r.provenance["mesh"]     = r.body.gmsh_file.empty() ? "parametric" : r.body.gmsh_file;
+      r.provenance["coupling_surfaces"] = p.get("Reduction/Coupling surfaces");
+      r.provenance["configuration"]     = p.file();
+      r.provenance["parameters"]        = input_text(p, {});
+      return r;
+    }
+
+    /// Progress of the reduction stages on one terminal line.
+    class StageDisplay
+    {
+    public:
+      explicit StageDisplay(bool enabled)
+        : enabled(enabled && fem::ParallelEnvironment::rank() == 0)
+      {}
+      void operator()(const std::string &stage, double fraction)
+      {
+        if (!enabled)
+          return;
+        if (stage != current)
+          {
+            progress.reset();
+            progress = std::make_unique<Progress>("reduce: " + stage, 1000, true);
+            current  = stage;
+          }
+        progress->update(static_cast<long>(1000 * fraction), 0.0);
+      }
+
+    private:
+      bool                      enabled;
+      std::string               current;
+      std::unique_ptr<Progress> progress;
+    };
+
+    fem::CylinderGrid interface_grid(const ReduceRequest &r)
+    {
+      fem::CylinderGrid grid;
+      if (r.grid_cells_circumferential == 0)
+        return grid;
+      grid.radius = r.body.ring.outer_radius;
+      grid.nx     = static_cast<int>(r.grid_cells_circumferential);
+      grid.ny     = static_cast<int>(r.grid_cells_axial);
+      grid.hx     = 2.0 * M_PI * grid.radius / grid.nx;
+      grid.hy     = r.body.ring.width / grid.ny;
+      grid.x_min  = 0.0;
+      grid.y_min  = -0.5 * r.body.ring.width;
+      return grid;
+    }
+
+    /// Circumferential lines in the mid-plane: the raceway bottom (or bore)
+    /// and the outer surface, points at equal angles.
+    std::vector<fem::Point3> sample_points(const ReduceRequest &r)
+    {
+      std::vector<fem::Point3> points;
+      const auto &ring  = r.body.ring;
+      const double inner = ring.has_groove() ? ring.groove_bottom_radius : ring.bore_radius;
+      for (const double radius : {inner, ring.outer_radius})
+        for (unsigned int k = 0; k < r.points_per_line; ++k)
+          {
+            const double theta = 2.0 * M_PI * (k + 0.5) / r.points_per_line;
+            points.push_back({radius * std::cos(theta), radius * std::sin(theta), 0.0});
+          }
+      return points;
+    }
+
+    /// Lowest `count` elastic frequencies (≥ 1 Hz) of a list.
+    std::vector<double> elastic(const std::vector<double> &all, std::size_t count)
+    {
+      std::vector<double> result;
+      for (const double f : all)
+        if (f >= 1.0 && result.size() < count)
+          result.push_back(f);
+      return result;
+    }
+
+    /// Two opposite Hertz pressure patches on the outer surface (θ = 90° and
+    /// 270°): a self-equilibrated squeeze such as a housing contact gives.
+    fem::GridTractions squeeze_patches(const fem::CylinderGrid &grid, double force)
+    {
+      const double a = 0.004, b = 0.25 * grid.hy * grid.ny; // [m]
+      return fem::hertz_patch_tractions(grid, {{0.25 * grid.nx * grid.hx, 0.0, a, b, force},
+                                               {0.75 * grid.nx * grid.hx, 0.0, a, b, force}});
+    }
+
+    /// max |a - b| / max |b| over the entries.
+    double relative_max_error(const std::vector<double> &a, const std::vector<double> &b)
+    {
+      double difference = 0.0, scale = 0.0;
+      for (std::size_t k = 0; k < b.size(); ++k)
+        {
+          difference = std::max(difference, std::abs(a[k] - b[k]));
+          scale      = std::max(scale, std::abs(b[k]));
+        }
+      return scale > 0.0 ? difference / scale : difference;
+    }
+
+    /// The full-FE references the reduced models are measured against.
+    struct FullReference
+    {
+      std::vector<double> free_frequencies_hz; ///< lowest 10 elastic
+      double              modal_seconds = 0.0;
+      fem::GridTractions  squeeze;
+      std::vector<double> squeeze_u_r, squeeze_stress; ///< on the interface grid
+      double              static_seconds = 0.0;
+    };
+
+    struct Accuracy
+    {
+      double frequency_error = 0.0;     ///< max relative error, lowest 10 free
+      double static_displacement = -1;  ///< squeeze: max |Δu_r| / max |u_r| on the grid
+      double static_stress       = -1;  ///< squeeze: max |Δσ| / max |σ| on the grid
+      double reduced_static_seconds = 0.0;
+    };
+
+    std::vector<double> radial(const fem::GridDisplacements &d) { return d.u_r; }
+
+    Accuracy measure(const reduction::CraigBampton &cb, const reduction::ReducedMatrices &reduced,
+                     const std::vector<double> &free_hz, const FullReference &full, const fem::ElasticModel &model,
+                     const fem::SurfaceGridMap *map, const fem::StressSampler *sampler)
+    {
+      Accuracy   a;
+      const auto reduced_free = elastic(free_hz, full.free_frequencies_hz.size());
+      for (std::size_t k = 0; k < std::min(reduced_free.size(), full.free_frequencies_hz.size()); ++k)
+        a.frequency_error = std::max(a.frequency_error, std::abs(reduced_free[k] / full.free_frequencies_hz[k] - 1.0));
+      if (reduced_free.size() < full.free_frequencies_hz.size())
+        a.frequency_error = 1.0; // fewer modes than asked: the model cannot represent them
+      if (map != nullptr)
+        {
+          fem::StaticLoad load;
+          load.grid_tractions.push_back({map, &full.squeeze});
+          const auto start      = Clock::now();
+          const auto u          = cb.reduced_static(load, reduced);
+          a.reduced_static_seconds = seconds_since(start);
+          a.static_displacement = relative_max_error(radial(map->interpolate(u)), full.squeeze_u_r);
+          a.static_stress       = relative_max_error(sampler->evaluate(u), full.squeeze_stress);
+        }
+      (void)model;
+      return a;
+    }
+
+    void print_comparison(std::ostream &out, const std::vector<double> &full, const std::vector<double> &reduced)
+    {
+      out << "  mode   full FE [Hz]   reduced [Hz]   error\n";
+      for (std::size_t k = 0; k < full.size(); ++k)
+        {
+          const double r = k < reduced.size() ? reduced[k] : 0.0;
+          out << "  " << std::setw(4) << k + 1 << std::setw(15) << std::fixed << std::setprecision(2) << full[k]
+              << std::setw(15) << r << "   " << std::scientific << std::setprecision(2) << (r / full[k] - 1.0)
+              << std::defaultfloat << "\n";
+        }
+    }
+
+    /// The full-FE references: lowest 10 free modes, and the static squeeze
+    /// on the interface grid (if there is one).
+    FullReference full_reference(fem::ElasticModel &model, const reduction::CraigBampton &cb,
+                                 const fem::CylinderGrid &grid, double eigen_tolerance,
+                                 std::unique_ptr<fem::SurfaceGridMap> &map,
+                                 std::unique_ptr<fem::StressSampler> &sampler)
+    {
+      FullReference      full;
+      fem::ModalSettings modal;
+      modal.n_modes            = 10;
+      modal.tolerance          = eigen_tolerance;
+      const auto modes         = model.solve_modes(modal);
+      full.free_frequencies_hz = modes.frequencies_hz;
+      full.modal_seconds       = modes.seconds;
+      if (grid.nx > 0)
+        {
+          map          = std::make_unique<fem::SurfaceGridMap>(model, BoundaryId::ring_outer, grid);
+          sampler      = std::make_unique<fem::StressSampler>(fem::StressSampler::on_grid(model, grid));
+          full.squeeze = squeeze_patches(grid, 5000.0);
+          fem::StaticLoad load;
+          load.grid_tractions.push_back({map.get(), &full.squeeze});
+          const auto start    = Clock::now();
+          const auto u        = cb.full_static(load);
+          full.static_seconds = seconds_since(start);
+          full.squeeze_u_r    = radial(map->interpolate(u));
+          full.squeeze_stress = sampler->evaluate(u);
+        }
+      return full;
+    }
+
+    std::string default_output(const RingHousingCommandOptions &options, const std::string &suffix)
+    {
+      return (std::filesystem::path("results") / (std::filesystem::path(options.config_file).stem().string() + suffix))
+        .string();
+    }
+  } // namespace
+
   std::vector<ParameterSpec> reduce_parameter_specs()
   {
-    return {};
+    using Spec = ParameterSpec;
+    Spec surfaces;
+    surfaces.path          = "Reduction/Coupling surfaces";
+    surfaces.kind          = Spec::Kind::text;
+    surfaces.default_value = "ring_outer";
+    surfaces.doc = "Comma-separated boundary names whose nodes are the Craig-Bampton boundary DoFs: ring_outer (the "
+                   "housing interface, where the contact grid lies), optionally raceway [-].";
+    Spec study_m = Spec::real_range("Reduction/Study fixed-interface modes", "5, 10, 20, 40",
+                                    "Fixed-interface mode counts m tried by `reduce --study` [-].", 0, 5000);
+    study_m.kind = Spec::Kind::real_list;
+    Spec study_cc = Spec::real_range("Reduction/Study characteristic constraint modes", "20, 40, 80, 120",
+                                     "Characteristic constraint mode counts n_cc tried by `reduce --study` [-].", 1,
+                                     5000);
+    study_cc.kind = Spec::Kind::real_list;
+    return {surfaces,
+            Spec::integer_range("Reduction/Fixed-interface modes", "40",
+                                "m: fixed-interface normal modes kept (boundary clamped) [-].", 0, 5000),
+            Spec::integer_range("Reduction/Characteristic constraint modes", "120",
+                                "n_cc: characteristic constraint modes kept (eigenmodes of the Guyan-condensed "
+                                "interface, the six rigid-body motions among them); 0 keeps one constraint mode per "
+                                "boundary DoF (small meshes only) [-].",
+                                0, 5000),
+            Spec::non_negative("Reduction/Interface shift", "0",
+                               "Steering shift f of the interface eigen-search, sigma = -(2 pi f)^2; 0 picks f_1/50 "
+                               "with f_1 the lowest fixed-interface frequency [Hz]."),
+            Spec::real_range("Reduction/Eigen tolerance", "1e-10", "Relative residual of the eigen-solves [-].",
+                             1e-14, 1e-3),
+            Spec::integer_range("Reduction/Interface grid circumferential cells", "360",
+                                "Cells around the ring outer surface of the contact grid whose modal displacement "
+                                "and stress operators are stored; 0: no grid [-].",
+                                0, 100000),
+            Spec::integer_range("Reduction/Interface grid axial cells", "16",
+                                "Cells across the width of that grid [-].", 1, 10000),
+            Spec::integer_range("Reduction/Sample points per line", "72",
+                                "Stress sample points on each of two circumferential lines in the mid-plane: the "
+                                "raceway bottom and the outer surface [-].",
+                                0, 100000),
+            Spec::selection("Reduction/Compare with full FE", "true",
+                            "Also solve the full FE model (lowest 10 free modes, a static squeeze of the outer "
+                            "surface) and report the reduced model's error against it [-].",
+                            "true|false"),
+            study_m,
+            study_cc};
   }
 
-  std::vector<std::string> run_reduce_command(const RingHousingCommandOptions &, std::ostream &)
+  std::vector<std::string> run_reduce_command(const RingHousingCommandOptions &options, std::ostream &out)
   {
-    throw std::logic_error("fretsim reduce: not implemented yet");
+    // Everything that can be checked without MPI is checked before MPI starts.
+    const SceneParameters parameters = read_ring_housing_parameters(options.config_file, options.overrides);
+    ReduceRequest         request    = read_request(parameters);
+    const std::string     model_path = options.output.empty() ? default_output(options, "-model.h5") : options.output;
+
+    const fem::ParallelEnvironment mpi;
+    const bool                     root = fem::ParallelEnvironment::rank() == 0;
+    const auto                     total_start = Clock::now();
+    auto mesh = std::make_shared<const fem::Mesh>(build_ring_housing_mesh(request.body, options.config_file));
+    fem::ElasticModel model(mesh, request.body.materials, request.body.degree);
+    const double      setup_seconds = seconds_since(total_start);
+    if (root)
+      out << "full model:   " << model.n_dofs() << " DoFs (FE_Q" << request.body.degree << "), set up and K assembled in "
+          << std::fixed << std::setprecision(2) << setup_seconds << " s\n" << std::defaultfloat;
+
+    StageDisplay display(options.progress);
+    request.settings.progress = [&](const std::string &stage, double fraction) { display(stage, fraction); };
+    reduction::CraigBampton cb(model, request.settings);
+    reduction::ReducedModel result;
+    try
+      {
+        result.matrices = cb.run();
+      }
+    catch (const std::invalid_argument &error)
+      {
+        throw InputError(options.config_file, "Reduction", error.what());
+      }
+    result.free_frequencies_hz = reduction::reduced_frequencies_hz(result.matrices);
+    result.timings             = cb.timings();
+
+    const auto        operator_start = Clock::now();
+    const fem::CylinderGrid grid     = interface_grid(request);
+    if (grid.nx > 0)
+      result.interface_grid = reduction::grid_operators(cb, model, BoundaryId::ring_outer, grid);
+    result.sample_points = reduction::point_operators(cb, model, sample_points(request));
+    const double operator_seconds = seconds_since(operator_start);
+    display("done", 1.0);
+
+    result.input_hash = request.input_hash;
+    result.provenance = request.provenance;
+    result.provenance["boundary_dofs"]  = std::to_string(result.matrices.n_boundary_dofs);
+    result.provenance["full_dofs"]      = std::to_string(model.n_dofs());
+    result.provenance["element_degree"] = std::to_string(request.body.degree);
+
+    const auto &m = result.matrices;
+    if (root)
+      {
+        out << "boundary:     " << m.n_boundary_dofs << " DoFs on " << parameters.get("Reduction/Coupling surfaces")
+            << ", interior " << m.n_interior_dofs << "\n"
+            << "reduced:      " << m.size() << " coordinates = " << m.n_constraint
+            << " characteristic constraint modes + " << m.n_modal << " fixed-interface modes\n"
+            << std::fixed << std::setprecision(2) << "reduction:    " << result.timings.total << " s (partition "
+            << result.timings.partition << ", factorisation " << result.timings.factorisation
+            << ", fixed-interface modes " << result.timings.fixed_interface_modes << ", interface modes "
+            << result.timings.interface_modes << ", constraint modes " << result.timings.constraint_modes
+            << ", reduced matrices " << result.timings.reduced_matrices << "); operators " << operator_seconds
+            << " s\n" << std::scientific << std::setprecision(1) << "symmetry:     |K_r - K_r^T| "
+            << m.stiffness_asymmetry << ", |M_r - M_r^T| " << m.mass_asymmetry << " (relative)\n"
+            << std::defaultfloat;
+      }
+
+    std::vector<std::string> files;
+    if (request.compare_with_full)
+      {
+        std::unique_ptr<fem::SurfaceGridMap> map;
+        std::unique_ptr<fem::StressSampler>  sampler;
+        const FullReference full = full_reference(model, cb, grid, request.settings.eigen_tolerance, map, sampler);
+        const Accuracy accuracy = measure(cb, m, result.free_frequencies_hz, full, model, map.get(), sampler.get());
+        if (root)
+          {
+            out << "lowest 10 free-free elastic modes (full FE modal solve " << std::fixed << std::setprecision(2)
+                << full.modal_seconds << " s):\n" << std::defaultfloat;
+            print_comparison(out, full.free_frequencies_hz, elastic(result.free_frequencies_hz, 10));
+            out << std::scientific << std::setprecision(2) << "max frequency error: " << accuracy.frequency_error
+                << "\n";
+            if (map)
+              out << "static squeeze of the outer surface (2 x 5 kN Hertz patches): u_r error "
+                  << accuracy.static_displacement << ", stress error " << accuracy.static_stress
+                  << " (max-norm, relative); full solve " << std::fixed << std::setprecision(3) << full.static_seconds
+                  << " s (factorisation included), reduced " << accuracy.reduced_static_seconds << " s\n";
+            out << std::defaultfloat;
+          }
+        result.provenance["full_free_frequencies_hz"] = [&] {
+          std::ostringstream list;
+          list << std::setprecision(10);
+          for (const double f : full.free_frequencies_hz)
+            list << f << ' ';
+          return list.str();
+        }();
+        result.provenance["max_frequency_error_lowest_10"] = std::to_string(accuracy.frequency_error);
+      }
+
+    if (root)
+      {
+        if (const auto parent = std::filesystem::path(model_path).parent_path(); !parent.empty())
+          std::filesystem::create_directories(parent);
+        reduction::write_model_file(model_path, result);
+        out << "input hash:   " << result.input_hash << "\n";
+      }
+    files.push_back(model_path);
+    return files;
+  }
+
+  std::vector<std::string> run_reduction_study(const RingHousingCommandOptions &options, std::ostream &out)
+  {
+    const SceneParameters parameters = read_ring_housing_parameters(options.config_file, options.overrides);
+    ReduceRequest         request    = read_request(parameters);
+    const std::string directory = options.output.empty() ? default_output(options, "-reduction-study") : options.output;
+
+    const fem::ParallelEnvironment mpi;
+    const bool                     root = fem::ParallelEnvironment::rank() == 0;
+    auto mesh = std::make_shared<const fem::Mesh>(build_ring_housing_mesh(request.body, options.config_file));
+    fem::ElasticModel       model(mesh, request.body.materials, request.body.degree);
+    const fem::CylinderGrid grid = interface_grid(request);
+
+    // The references, with the boundary free and with it clamped.
+    reduction::ReductionSettings reference_settings = request.settings;
+    reference_settings.n_fixed_interface_modes      = 10;
+    reference_settings.n_characteristic_constraint_modes = std::max(request.study_interface.front(), 7u);
+    reduction::CraigBampton reference_basis(model, reference_settings);
+    reference_basis.run();
+    std::unique_ptr<fem::SurfaceGridMap> map;
+    std::unique_ptr<fem::StressSampler>  sampler;
+    const FullReference full = full_reference(model, reference_basis, grid, request.settings.eigen_tolerance, map, sampler);
+    std::vector<fem::Support> clamps;
+    for (const BoundaryId surface : request.settings.coupling_surfaces)
+      clamps.push_back({surface});
+    fem::ElasticModel  clamped(mesh, request.body.materials, request.body.degree, clamps);
+    fem::ModalSettings modal;
+    modal.n_modes             = 10;
+    modal.tolerance           = request.settings.eigen_tolerance;
+    const auto clamped_modes  = clamped.solve_modes(modal);
+    if (root)
+      out << "full model: " << model.n_dofs() << " DoFs; lowest free mode " << full.free_frequencies_hz.front()
+          << " Hz (modal solve " << full.modal_seconds << " s), lowest clamped-boundary mode "
+          << clamped_modes.frequencies_hz.front() << " Hz\n";
+
+    std::filesystem::create_directories(directory);
+    const std::string csv_path = (std::filesystem::path(directory) / "reduction_study.csv").string();
+    std::ofstream     csv;
+    if (root)
+      {
+        csv.open(csv_path);
+        csv << "fixed_interface_modes,interface_modes,reduced_size,reduction_s,free_error,clamped_error,"
+               "static_displacement_error,static_stress_error,full_static_s,reduced_static_s\n";
+        out << "     m   n_cc   size   time [s]   free err   clamped err   squeeze u_r err   squeeze stress err\n";
+      }
+    for (const unsigned int m : request.study_fixed_interface)
+      for (const unsigned int n_cc : request.study_interface)
+        {
+          reduction::ReductionSettings settings      = request.settings;
+          settings.n_fixed_interface_modes           = m;
+          settings.n_characteristic_constraint_modes = n_cc;
+          if (m == 0 && settings.interface_shift_hz == 0.0)
+            settings.interface_shift_hz = clamped_modes.frequencies_hz.front() / 50.0;
+          settings.progress = nullptr;
+          reduction::CraigBampton cb(model, settings);
+          reduction::ReducedMatrices reduced;
+          try
+            {
+              reduced = cb.run();
+            }
+          catch (const std::invalid_argument &error)
+            {
+              throw InputError(options.config_file, "Reduction/Study characteristic constraint modes", error.what());
+            }
+          const Accuracy a = measure(cb, reduced, reduction::reduced_frequencies_hz(reduced), full, model, map.get(),
+                                     sampler.get());
+          double clamped_error = m < 10 ? 1.0 : 0.0;
+          for (unsigned int k = 0; k < std::min(m, 10u); ++k)
+            clamped_error = std::max(clamped_error, std::abs(reduced.fixed_interface_frequencies_hz[k] /
+                                                               clamped_modes.frequencies_hz[k] - 1.0));
+          if (root)
+            {
+              csv << m << ',' << n_cc << ',' << reduced.size() << ',' << cb.timings().total << ','
+                  << a.frequency_error << ',' << clamped_error << ',' << a.static_displacement << ','
+                  << a.static_stress << ',' << full.static_seconds << ',' << a.reduced_static_seconds << '\n';
+              out << std::setw(6) << m << std::setw(7) << n_cc << std::setw(7) << reduced.size() << std::fixed
+                  << std::setprecision(2) << std::setw(11) << cb.timings().total << std::scientific
+                  << std::setprecision(2) << std::setw(11) << a.frequency_error << std::setw(14) << clamped_error
+                  << std::setw(18) << a.static_displacement << std::setw(21) << a.static_stress << "\n"
+                  << std::defaultfloat;
+            }
+        }
+    std::vector<std::string> files{csv_path};
+    if (root)
+      {
+        csv.close();
+        if (options.plots)
+          for (const auto &figure : scenes::run_plot_script("plot_reduction_study.py", {csv_path}))
+            files.push_back(figure);
+      }
+    return files;
   }
 } // namespace fretsim::app

@@ -16,4 +16,11 @@ namespace fretsim::app
   /// and writes the model file (via a temporary file: never half-written).
   /// Returns the files written. Collective over the MPI ranks.
   std::vector<std::string> run_reduce_command(const RingHousingCommandOptions &options, std::ostream &out);
+
+  /// `fretsim reduce CONFIG --study`: error against run time. Reduces the
+  /// model once for every (m, n_cc) of Reduction/Study ... lists and measures
+  /// each against the full FE model (lowest 10 frequencies with the boundary
+  /// free and clamped, a static squeeze of the outer surface); writes
+  /// reduction_study.csv and a PNG into the output directory.
+  std::vector<std::string> run_reduction_study(const RingHousingCommandOptions &options, std::ostream &out);
 } // namespace fretsim::app

@@ -107,6 +107,8 @@ namespace fretsim::reduction
     ReducedMatrices run();
 
     const ReductionTimings &timings() const;
+    /// Number of reduced coordinates (columns of T) after run().
+    std::size_t size() const;
 
     /// Column j of T as a displacement field on the full mesh (after run()).
     fem::DisplacementField basis_field(unsigned int j) const;

@@ -1,0 +1,110 @@
+// `fretsim reduce`: a small grooved ring reduced from the command line; the
+// model file holds the matrices and operators of the stated sizes, and the
+// reduced model meets issue 7's 0.5 % on the lowest 10 free frequencies
+// against the full FE solve the command runs itself; `--study` writes a table
+// whose frequency error falls as n_cc grows (nested bases, Rayleigh–Ritz:
+// min-max principle); bad input gives exit code 2, one line naming the
+// parameter, and no file.
+#include "app/test_files.h"
+
+#include "output/results_file.h"
+
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+using fretsim::output::ResultsFile;
+using fretsim::test_files::read_text;
+using fretsim::test_files::run_program;
+using fretsim::test_files::scratch_directory;
+using fretsim::test_files::write_text;
+
+namespace
+{
+  std::string small_ring(const std::string &reduction)
+  {
+    return "set Scene = ring_housing\n"
+           "subsection Divisions\n  set Circumferential = 24\n  set Radial ring = 1\n  set Axial = 2\n"
+           "  set Axial land = 1\nend\n"
+           "subsection Reduction\n  set Interface grid circumferential cells = 72\n"
+           "  set Interface grid axial cells = 6\n  set Sample points per line = 12\n" +
+           reduction + "end\n";
+  }
+
+  double number_after(const std::string &text, const std::string &label)
+  {
+    const auto at = text.find(label);
+    return at == std::string::npos ? -1.0 : std::stod(text.substr(at + label.size()));
+  }
+} // namespace
+
+TEST(ReduceCommand, WritesAModelThatMeetsTheFrequencyTarget)
+{
+  const auto dir = scratch_directory("reduce");
+  write_text(dir / "ring.prm", small_ring("  set Fixed-interface modes = 16\n  set Characteristic constraint modes = 40\n"));
+  const auto result = run_program("reduce " + (dir / "ring.prm").string() + " -q -o " + (dir / "model.h5").string());
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  std::printf("%s", result.output.c_str());
+
+  const double error = number_after(result.output, "max frequency error: ");
+  EXPECT_GE(error, 0.0);
+  EXPECT_LT(error, 5e-3); // issue 7: < 0.5 % on the lowest 10
+
+  std::vector<std::size_t> dims;
+  const auto               k = ResultsFile::read_dataset((dir / "model.h5").string(), "/matrices/stiffness", &dims);
+  ASSERT_EQ(dims, (std::vector<std::size_t>{56, 56}));
+  const auto g = ResultsFile::read_dataset((dir / "model.h5").string(), "/operators/interface_grid/displacement", &dims);
+  EXPECT_EQ(dims, (std::vector<std::size_t>{72 * 6, 3, 56}));
+  ResultsFile::read_dataset((dir / "model.h5").string(), "/operators/sample_points/stress", &dims);
+  EXPECT_EQ(dims, (std::vector<std::size_t>{24, 6, 56}));
+  EXPECT_EQ(ResultsFile::read_string_attribute((dir / "model.h5").string(), "/", "input_hash").size(), 16u);
+  EXPECT_FALSE(std::filesystem::exists(dir / "model.h5.tmp"));
+}
+
+TEST(ReduceCommand, StudyErrorFallsWithInterfaceModes)
+{
+  const auto dir = scratch_directory("reduce-study");
+  write_text(dir / "ring.prm", small_ring("  set Study fixed-interface modes = 16\n"
+                                          "  set Study characteristic constraint modes = 12, 20, 40\n"));
+  const auto result = run_program("reduce " + (dir / "ring.prm").string() + " --study --no-plots -q -o " +
+                                  (dir / "study").string());
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  std::printf("%s", result.output.c_str());
+  std::istringstream csv(read_text(dir / "study" / "reduction_study.csv"));
+  std::string        line;
+  std::getline(csv, line); // header
+  std::vector<double> errors;
+  while (std::getline(csv, line))
+    {
+      std::vector<std::string> cells;
+      std::stringstream        row(line);
+      for (std::string cell; std::getline(row, cell, ',');)
+        cells.push_back(cell);
+      ASSERT_EQ(cells.size(), 10u) << line;
+      errors.push_back(std::stod(cells[4]));
+      EXPECT_LT(std::stod(cells[5]), 1e-7) << "clamped boundary: the fixed-interface modes are exact";
+    }
+  ASSERT_EQ(errors.size(), 3u);
+  for (std::size_t k = 1; k < errors.size(); ++k)
+    EXPECT_LE(errors[k], errors[k - 1] * (1 + 1e-9));
+  EXPECT_LT(errors.back(), 5e-3);
+}
+
+TEST(ReduceCommand, BadInputNamesTheParameterAndWritesNothing)
+{
+  const auto dir = scratch_directory("reduce-bad");
+  for (const auto &[reduction, parameter] :
+       std::vector<std::pair<std::string, std::string>>{
+         {"  set Coupling surfaces = ring_outer, nowhere\n", "Reduction/Coupling surfaces"},
+         {"  set Characteristic constraint modes = -3\n", "Reduction/Characteristic constraint modes"},
+         {"  set Coupling surfaces = raceway\n", "Reduction/Interface grid circumferential cells"},
+         {"  set Characteristic constraint modes = 100000\n", "Reduction/Characteristic constraint modes"}})
+    {
+      write_text(dir / "ring.prm", small_ring(reduction));
+      const auto result = run_program("reduce " + (dir / "ring.prm").string() + " -q -o " + (dir / "model.h5").string());
+      EXPECT_EQ(result.exit_code, 2) << result.output;
+      EXPECT_NE(result.output.find(parameter), std::string::npos) << result.output;
+      EXPECT_NE(result.output.find("ring.prm"), std::string::npos) << result.output;
+      EXPECT_FALSE(std::filesystem::exists(dir / "model.h5"));
+    }
+}

@@ -1,0 +1,96 @@
+// Model file round trip and refusals: a file read back equals what was
+// written (bit for bit: doubles stored as IEEE-754 64-bit); a file made from
+// other inputs (hash), a truncated file and a file that is not a model are
+// refused with a ModelFileError naming the file; a write never leaves the
+// temporary file behind.
+#include <fretsim/reduction/reduced_model.h>
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+using namespace fretsim::reduction;
+
+namespace
+{
+  std::filesystem::path scratch(const std::string &name)
+  {
+    const auto dir = std::filesystem::temp_directory_path() /
+                     ("fretsim-test-model-file-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    return dir / name;
+  }
+
+  ReducedModel example()
+  {
+    ReducedModel model;
+    auto        &m = model.matrices;
+    m.n_constraint = 2;
+    m.n_modal      = 1;
+    m.mass         = {2, 0.1, 0, 0.1, 3, 0.2, 0, 0.2, 1};
+    m.stiffness    = {5, -1, 0, -1, 6, 0, 0, 0, 7};
+    m.fixed_interface_frequencies_hz = {1234.5};
+    m.interface_frequencies_hz       = {0.0, 99.0};
+    m.n_boundary_dofs                = 30;
+    m.n_interior_dofs                = 70;
+    model.free_frequencies_hz        = {0.0, 10.0, 20.0};
+    model.interface_grid.grid        = {0.04, 2, 1, 0.1, 0.018, 0.0, -0.009};
+    model.interface_grid.displacement.assign(2 * 3 * 3, 0.25);
+    model.interface_grid.stress.assign(2 * 6 * 3, -1e6);
+    model.sample_points.points = {{0.04, 0.0, 0.0}};
+    model.sample_points.stress.assign(6 * 3, 3.5);
+    model.timings.total        = 1.5;
+    model.provenance["mesh"]   = "parametric";
+    model.input_hash           = fingerprint("inputs");
+    return model;
+  }
+} // namespace
+
+TEST(ModelFile, RoundTrip)
+{
+  const auto path = scratch("model.h5");
+  write_model_file(path.string(), example());
+  EXPECT_FALSE(std::filesystem::exists(path.string() + ".tmp"));
+  const ReducedModel back = read_model_file(path.string(), fingerprint("inputs"));
+  const ReducedModel original = example();
+  EXPECT_EQ(back.matrices.mass, original.matrices.mass);
+  EXPECT_EQ(back.matrices.stiffness, original.matrices.stiffness);
+  EXPECT_EQ(back.matrices.size(), 3u);
+  EXPECT_EQ(back.matrices.fixed_interface_frequencies_hz, original.matrices.fixed_interface_frequencies_hz);
+  EXPECT_EQ(back.free_frequencies_hz, original.free_frequencies_hz);
+  EXPECT_EQ(back.interface_grid.displacement, original.interface_grid.displacement);
+  EXPECT_EQ(back.interface_grid.grid.nx, 2);
+  EXPECT_DOUBLE_EQ(back.interface_grid.grid.y_min, -0.009);
+  EXPECT_EQ(back.sample_points.points.size(), 1u);
+  EXPECT_EQ(back.sample_points.stress, original.sample_points.stress);
+  EXPECT_EQ(back.provenance.at("mesh"), "parametric");
+  EXPECT_EQ(back.timings.total, 1.5);
+}
+
+TEST(ModelFile, RefusesOtherInputsTruncationAndForeignFiles)
+{
+  const auto path = scratch("model-refusals.h5");
+  write_model_file(path.string(), example());
+  try
+    {
+      read_model_file(path.string(), fingerprint("other inputs"));
+      FAIL() << "a model made from other inputs was accepted";
+    }
+  catch (const ModelFileError &error)
+    {
+      EXPECT_NE(std::string(error.what()).find("other inputs"), std::string::npos) << error.what();
+      EXPECT_NE(std::string(error.what()).find(path.string()), std::string::npos) << error.what();
+    }
+
+  const auto truncated = scratch("truncated.h5");
+  std::filesystem::copy_file(path, truncated, std::filesystem::copy_options::overwrite_existing);
+  std::filesystem::resize_file(truncated, std::filesystem::file_size(path) / 2);
+  EXPECT_THROW(read_model_file(truncated.string()), ModelFileError);
+
+  const auto foreign = scratch("foreign.h5");
+  std::ofstream(foreign) << "not HDF5\n";
+  EXPECT_THROW(read_model_file(foreign.string()), ModelFileError);
+  EXPECT_THROW(read_model_file(scratch("missing.h5").string()), ModelFileError);
+}

@@ -30,3 +30,13 @@ if(TARGET test_fem_slow_scaling)
   set_tests_properties(fem.mpi_np2.slow_scaling_1M PROPERTIES
     LABELS slow PROCESSORS 2 ENVIRONMENT "${fretsim_mpi_env}" TIMEOUT 1800)
 endif()
+
+# The iterative solvers on a mesh distributed over two ranks (block size and
+# near-null space built per rank).
+if(TARGET test_fem_unit_iterative_solvers)
+  add_test(NAME fem.mpi_np2.unit_iterative_solvers
+    COMMAND ${MPIEXEC_EXECUTABLE} ${MPIEXEC_NUMPROC_FLAG} 2 ${MPIEXEC_PREFLAGS}
+            $<TARGET_FILE:test_fem_unit_iterative_solvers> ${MPIEXEC_POSTFLAGS})
+  set_tests_properties(fem.mpi_np2.unit_iterative_solvers PROPERTIES
+    LABELS unit PROCESSORS 2 ENVIRONMENT "${fretsim_mpi_env}" TIMEOUT 300)
+endif()

@@ -9,6 +9,10 @@ packages=(
   libdeal.ii-dev libeigen3-dev libfftw3-dev libcli11-dev libhdf5-openmpi-dev
   libgtest-dev libbenchmark-dev
   python3 python3-matplotlib python3-h5py
+  # Optimised BLAS/LAPACK behind Debian's libblas.so.3 alternative: MUMPS's
+  # factorisations (reduction, modes, direct solves) are ~9x faster than with
+  # the reference BLAS. Serial, so that MPI ranks do not oversubscribe cores.
+  libopenblas0-serial
 )
 missing=()
 for package in "${packages[@]}"; do

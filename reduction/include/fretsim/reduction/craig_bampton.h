@@ -20,10 +20,10 @@
 //
 // How the n_cc interface modes are found without forming Ψ for every boundary
 // DoF (thousands of solves): Krylov–Schur (SLEPc) on the operator
-// v ↦ [(K - σM)⁻¹ [M_G v; 0]]_b, whose dominant eigenvectors are those of the
-// Schur complement of K - σM (σ < 0 small, so that a free body's K is
-// invertible). Each application costs three solves with factorisations done
-// once (K_ii and K - σM, MUMPS). A Rayleigh–Ritz step with the exact S and M_G
+// v ↦ [(K - σM)⁻¹ M [v; Ψv]]_b, which for σ = 0 is exactly S⁻¹ M_G (the bb
+// block of K⁻¹ is S⁻¹, and the interior part of K⁻¹ drops out), with σ < 0
+// small so that a free body's K is invertible. Each application costs two
+// solves with factorisations done once (K_ii and K - σM, MUMPS). A Rayleigh–Ritz step with the exact S and M_G
 // in the space found then gives the characteristic constraint modes of the
 // Guyan problem itself; the small shift only steers the search.
 //

@@ -87,6 +87,22 @@ namespace fretsim::reduction
     }
 
     double to_hz(const double eigenvalue) { return std::sqrt(std::max(0.0, eigenvalue)) / (2.0 * M_PI); }
+
+    /// Solves with a progress monitor; throws unless `wanted` pairs converged.
+    /// Returns how many did.
+    PetscInt solve_eigenproblem(EPS eps, const ReductionSettings &settings, const std::string &stage,
+                                const PetscInt wanted)
+    {
+      EpsProgress progress{&settings, stage, wanted};
+      FRETSIM_PETSC(EPSMonitorSet(eps, eps_monitor, &progress, nullptr));
+      FRETSIM_PETSC(EPSSolve(eps));
+      PetscInt n_converged = 0;
+      FRETSIM_PETSC(EPSGetConverged(eps, &n_converged));
+      if (n_converged < wanted)
+        throw std::runtime_error("reduction: only " + std::to_string(n_converged) + " of " + std::to_string(wanted) +
+                                 " " + stage + " converged");
+      return n_converged;
+    }
   } // namespace
 
   struct CraigBampton::Impl
@@ -247,14 +263,7 @@ namespace fretsim::reduction
     FRETSIM_PETSC(PCFactorSetMatSolverType(st_factor, MATSOLVERMUMPS));
     FRETSIM_PETSC(EPSSetTarget(eps, 0.0));
     FRETSIM_PETSC(EPSSetWhichEigenpairs(eps, EPS_TARGET_MAGNITUDE));
-    EpsProgress progress{&settings, "fixed-interface modes", wanted};
-    FRETSIM_PETSC(EPSMonitorSet(eps, eps_monitor, &progress, nullptr));
-    FRETSIM_PETSC(EPSSolve(eps));
-    PetscInt n_converged = 0;
-    FRETSIM_PETSC(EPSGetConverged(eps, &n_converged));
-    if (n_converged < wanted)
-      throw std::runtime_error("reduction: only " + std::to_string(n_converged) + " of " + std::to_string(wanted) +
-                               " fixed-interface modes converged");
+    const PetscInt n_converged = solve_eigenproblem(eps, settings, "fixed-interface modes", wanted);
 
     std::vector<std::pair<double, PetscInt>> order;
     for (PetscInt k = 0; k < n_converged; ++k)
@@ -368,14 +377,7 @@ namespace fretsim::reduction
     // exact Guyan pair then gives eigenvalues with errors of the order of the
     // squared residual, so 1e-7 here still yields ~1e-12 relative.
     FRETSIM_PETSC(EPSSetTolerances(eps, std::max(settings.eigen_tolerance, 1e-7), 1000));
-    EpsProgress progress{&settings, "characteristic constraint modes", wanted};
-    FRETSIM_PETSC(EPSMonitorSet(eps, eps_monitor, &progress, nullptr));
-    FRETSIM_PETSC(EPSSolve(eps));
-    PetscInt n_converged = 0;
-    FRETSIM_PETSC(EPSGetConverged(eps, &n_converged));
-    if (n_converged < wanted)
-      throw std::runtime_error("reduction: only " + std::to_string(n_converged) + " of " + std::to_string(wanted) +
-                               " characteristic constraint modes converged");
+    const PetscInt n_converged = solve_eigenproblem(eps, settings, "characteristic constraint modes", wanted);
 
     // Rayleigh–Ritz with the exact Guyan pair (S, M_G) in the space found.
     // The space is the converged invariant subspace (orthonormal Schur

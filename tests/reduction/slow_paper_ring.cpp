@@ -5,6 +5,7 @@
 // tolerance, K_r and M_r symmetric to round-off. The run time is printed,
 // not asserted (machines here are noisy; README has the measured figures).
 #include "fem/fem_test_environment.h"
+#include "reduction/bearing_ring.h"
 
 #include <fretsim/fem/elastic_model.h>
 #include <fretsim/reduction/craig_bampton.h>
@@ -18,19 +19,8 @@ using fretsim::fem_testing::relative_error;
 
 TEST(PaperRing, ReducedTo160CoordinatesWithinHalfAPercent)
 {
-  fem::RingGeometry g;
-  g.bore_radius          = 0.0341;
-  g.outer_radius         = 0.040;
-  g.width                = 0.018;
-  g.groove_radius        = 0.006731;
-  g.groove_bottom_radius = 0.03635;
-  fem::MeshDivisions d;
-  d.circumferential = 128;
-  d.radial_ring     = 3;
-  d.axial           = 6;
-  d.axial_land      = 2;
-  auto              mesh = std::make_shared<const fem::Mesh>(fem::Mesh::ring(g, d));
-  fem::ElasticModel model(mesh, {{fem::MaterialId::ring, {208e9, 0.3, 7850.0}}}, 2);
+  const auto        mesh = reduction_testing::ring_6208(128, 3, 6, 2);
+  fem::ElasticModel model(mesh, {{fem::MaterialId::ring, reduction_testing::bearing_steel}}, 2);
   ASSERT_GE(model.n_dofs(), 100000u);
 
   reduction::ReductionSettings settings;

@@ -13,6 +13,7 @@
 //    < 0.5 % for the lowest 10 (issue 7's requirement);
 //  - K_r, M_r symmetric to round-off, six rigid-body modes at ~0 Hz.
 #include "fem/fem_test_environment.h"
+#include "reduction/bearing_ring.h"
 
 #include <fretsim/fem/elastic_model.h>
 #include <fretsim/reduction/craig_bampton.h>
@@ -28,24 +29,10 @@ using fretsim::fem_testing::relative_error;
 
 namespace
 {
-  const fem::Material steel{208e9, 0.3, 7850.0};
+  const fem::Material steel = reduction_testing::bearing_steel;
 
-  /// A coarse 6208-like outer ring with its raceway groove (~4k DoFs, Q2).
-  std::shared_ptr<const fem::Mesh> small_ring()
-  {
-    fem::RingGeometry g;
-    g.bore_radius          = 0.0341;
-    g.outer_radius         = 0.040;
-    g.width                = 0.018;
-    g.groove_radius        = 0.006731;
-    g.groove_bottom_radius = 0.03635;
-    fem::MeshDivisions d;
-    d.circumferential = 24;
-    d.radial_ring     = 1;
-    d.axial           = 2;
-    d.axial_land      = 1;
-    return std::make_shared<const fem::Mesh>(fem::Mesh::ring(g, d));
-  }
+  /// A coarse 6208 outer ring with its raceway groove (~4k DoFs, Q2).
+  std::shared_ptr<const fem::Mesh> small_ring() { return reduction_testing::ring_6208(24, 1, 2, 1); }
 
   reduction::ReductionSettings settings(unsigned int n_cc, unsigned int m)
   {

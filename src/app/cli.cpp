@@ -200,7 +200,11 @@ namespace fretsim::app
               run_mesh_command(fe_options, std::cout);
             else
               {
-                install_interrupt_handlers();
+                // `fe` stops a transient between steps and keeps what it wrote; a
+                // reduction has no steps to keep (its file appears complete or
+                // not at all), so Ctrl-C simply ends it.
+                if (*fe)
+                  install_interrupt_handlers();
                 const auto files = *fe              ? run_fe_command(fe_options, std::cout) :
                                    reduction_study ? run_reduction_study(fe_options, std::cout) :
                                                      run_reduce_command(fe_options, std::cout);

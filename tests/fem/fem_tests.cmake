@@ -2,6 +2,8 @@
 # every folder, plus the parallel-consistency tests run again under
 # `mpiexec -np 2`, which compare a two-rank run with a one-rank run inside
 # the same job.
+# The ~1M-DoF case needs two ranks: it runs as fem.mpi_np2.slow_scaling_1M only.
+set(FRETSIM_TEST_FILTER_slow_scaling "-Scaling.Ring1M")
 fretsim_add_test_folder(fem fretsim_fem)
 
 set(fretsim_mpi_env "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMPI_MCA_rmaps_base_oversubscribe=1")

@@ -6,7 +6,7 @@ cd "$(dirname "$0")/.."
 
 packages=(
   build-essential cmake ninja-build pkg-config
-  libdeal.ii-dev libeigen3-dev libfftw3-dev libcli11-dev libhdf5-openmpi-dev
+  libdeal.ii-dev libsundials-dev libeigen3-dev libfftw3-dev libcli11-dev libhdf5-openmpi-dev
   libgtest-dev libbenchmark-dev
   python3 python3-matplotlib python3-h5py
   # Optimised BLAS/LAPACK behind Debian's libblas.so.3 alternative: MUMPS's

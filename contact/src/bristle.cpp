@@ -28,40 +28,32 @@ namespace fretsim::contact
     std::fill(tau_y.begin(), tau_y.end(), 0.0);
   }
 
-  void BristleTraction::advance_cell(std::size_t c, double mu_p, double slip_x, double slip_y)
+  BristleStep bristle_step(double tau_x, double tau_y, double stiffness, double mu_p, double slip_x, double slip_y)
   {
     if (!(mu_p > 0.0))
-      {
-        // No pressure or no friction: no traction can be transmitted.
-        tau_x[c] = 0.0;
-        tau_y[c] = 0.0;
-        return;
-      }
+      return {0.0, 0.0}; // no pressure or no friction: no traction can be transmitted
     // Implicit Euler of dtau = k ds - k |ds| tau/(mu p). Written with the slip
     // increment rather than v dt so that a prescribed displacement history is
     // followed exactly. The division form keeps |tau| <= mu p for any k |ds|:
     // |tau + k ds| <= mu p + k|ds| = mu p (1 + k|ds|/(mu p)).
-    const double slip      = std::hypot(slip_x, slip_y);
-    const double k_slip    = k * slip;
-    const double denominator = 1.0 + k_slip / mu_p;
-    double       new_x     = (tau_x[c] + k * slip_x) / denominator;
-    double       new_y     = (tau_y[c] + k * slip_y) / denominator;
+    const double slip        = std::hypot(slip_x, slip_y);
+    const double denominator = 1.0 + stiffness * slip / mu_p;
+    BristleStep  next{(tau_x + stiffness * slip_x) / denominator, (tau_y + stiffness * slip_y) / denominator};
     if (!std::isfinite(denominator))
-      {
-        // k |ds| overflowed: the bristle is fully slipping along ds.
-        new_x = mu_p * slip_x / slip;
-        new_y = mu_p * slip_y / slip;
-      }
+      next = {mu_p * slip_x / slip, mu_p * slip_y / slip}; // k |ds| overflowed: full slip along ds
     // Coulomb clamp: when the pressure dropped since the last step, the stored
     // traction may exceed the new limit.
-    const double magnitude = std::hypot(new_x, new_y);
+    const double magnitude = std::hypot(next.x, next.y);
     if (magnitude > mu_p)
-      {
-        new_x *= mu_p / magnitude;
-        new_y *= mu_p / magnitude;
-      }
-    tau_x[c] = new_x;
-    tau_y[c] = new_y;
+      next = {next.x * mu_p / magnitude, next.y * mu_p / magnitude};
+    return next;
+  }
+
+  void BristleTraction::advance_cell(std::size_t c, double mu_p, double slip_x, double slip_y)
+  {
+    const BristleStep next = bristle_step(tau_x[c], tau_y[c], k, mu_p, slip_x, slip_y);
+    tau_x[c]               = next.x;
+    tau_y[c]               = next.y;
   }
 
   void BristleTraction::advance(const Field &pressure, double friction_coefficient, double slip_x,

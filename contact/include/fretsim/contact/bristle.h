@@ -3,6 +3,18 @@
 
 namespace fretsim::contact
 {
+  struct BristleStep
+  {
+    double x, y; ///< traction [Pa]
+  };
+
+  /// One implicit Euler step of paper eq. 4 at one cell: from the traction
+  /// (tau_x, tau_y) [Pa], stiffness k [Pa/m], Coulomb limit mu p [Pa] and the
+  /// slip increment (ds_x, ds_y) [m], tau' = (tau + k ds) / (1 + k |ds| / (mu p)),
+  /// clamped to |tau'| <= mu p; 0 where mu p = 0. BristleTraction advances
+  /// every cell with it; a coupled solver evaluates it at trial states.
+  BristleStep bristle_step(double tau_x, double tau_y, double stiffness, double mu_p, double slip_x, double slip_y);
+
   /// Tangential traction by the bristle (elastic-foundation, LuGre-type) model
   /// of the paper, eq. 4 (DESIGN.md §2.3): at every cell
   ///     dtau/dt = k v - k |v| tau / (mu p),

@@ -1,0 +1,57 @@
+#pragma once
+// The rigid parts of a radial deep groove ball bearing as the co-simulation
+// sees them (DESIGN.md §4): geometry, cage kinematics and the ball–raceway
+// load–deflection law. SI units: m, N, rad, s.
+//
+// Balls are massless and guided by the cage: ball j sits at the cage angle
+// ψ_j(t) = ψ_0 + 2π j / Z + ω_c t and is in radial equilibrium between the
+// inner and the outer raceway at every instant (its own dynamics, tens of kHz
+// on these contact stiffnesses, are far above the ball pass frequency). The two
+// Hertz contacts in series then give one law for the ball load Q against the
+// total elastic deflection δ along the line of centres (contact angle 0):
+//     Q = K δ^{3/2},   K = [K_i^{-2/3} + K_o^{-2/3}]^{-3/2},
+// with K_i, K_o from the exact elliptical Hertz solution of each contact
+// (Harris & Kotzalas, Rolling Bearing Analysis, §6; REFERENCES.md §1.3).
+// Contact damping is Hunt–Crossley: Q = K δ^{3/2} (1 + 3/2 α δ̇), never negative.
+#include <vector>
+
+namespace fretsim::coupling
+{
+  struct BearingGeometry
+  {
+    unsigned int ball_count              = 9;
+    double       ball_diameter           = 0.0127; ///< D_w [m]
+    double       pitch_diameter          = 0.060;  ///< d_m [m]
+    double       inner_groove_conformity = 0.52;   ///< f_i = r_i / D_w [-]
+    double       outer_groove_conformity = 0.53;   ///< f_o = r_o / D_w [-]
+    /// Radial internal clearance P_d: the free radial play of the inner ring
+    /// in the outer ring; every ball's deflection is reduced by P_d / 2 [m].
+    double radial_clearance = 0.0;
+  };
+
+  /// Load–deflection constants Q = K δ^{3/2} [N/m^{3/2}].
+  struct BallContactStiffness
+  {
+    double inner    = 0.0; ///< ball on the inner raceway
+    double outer    = 0.0; ///< ball on the outer raceway
+    double combined = 0.0; ///< both in series
+  };
+
+  /// Exact elliptical Hertz constants of both contacts (ball and rings of
+  /// contact modulus E*). Throws std::invalid_argument for impossible geometry
+  /// (conformity ≤ 1/2, ball larger than the pitch circle).
+  BallContactStiffness ball_contact_stiffness(const BearingGeometry &bearing, double contact_modulus);
+
+  /// Cage angular speed with the outer ring fixed, ω_c = ω_i (1 - D_w/d_m) / 2 [rad/s].
+  double cage_speed(const BearingGeometry &bearing, double inner_ring_speed);
+  /// Ball pass frequency on the outer ring, Z ω_c / 2π [Hz].
+  double outer_ball_pass_frequency(const BearingGeometry &bearing, double inner_ring_speed);
+
+  /// Q = K δ^{3/2} (1 + 3/2 α δ̇) for δ > 0, else 0, and never negative; with
+  /// its derivatives by δ and δ̇.
+  struct BallLoad
+  {
+    double load = 0.0, by_deflection = 0.0, by_deflection_rate = 0.0;
+  };
+  BallLoad ball_load(double stiffness, double damping, double deflection, double deflection_rate);
+} // namespace fretsim::coupling

@@ -1,0 +1,357 @@
+#include "coupling/cosimulation.h"
+
+#include <arkode/arkode_arkstep.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace fretsim::coupling
+{
+  namespace
+  {
+    using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    using Clock     = std::chrono::steady_clock;
+
+    double seconds_since(Clock::time_point start)
+    {
+      return std::chrono::duration<double>(Clock::now() - start).count();
+    }
+
+    /// C¹ smooth step s(x) = 3x² - 2x³ on [0, 1] and its derivative.
+    void smooth_step(double x, double &value, double &slope)
+    {
+      if (x >= 1.0)
+        {
+          value = 1.0;
+          slope = 0.0;
+          return;
+        }
+      x     = std::max(x, 0.0);
+      value = x * x * (3.0 - 2.0 * x);
+      slope = 6.0 * x * (1.0 - x);
+    }
+  } // namespace
+
+  struct BearingCosimulation::Impl
+  {
+    CosimulationSettings settings;
+    std::size_t          n;
+    double               cage;
+    RowMatrix            mass_inverse_stiffness, mass_inverse_damping;
+    Eigen::LLT<Eigen::MatrixXd> mass;
+    InterfaceContact     interface;
+    BallContacts         balls;
+    IntegratorStatistics stats;
+    std::vector<double>  absolute_tolerance;
+    // Work arrays of the right-hand side and Jacobian.
+    std::vector<double> force, by_position, by_velocity;
+    std::string         last_error;
+
+    Impl(const ReducedRing &ring, const CosimulationSettings &s)
+      : settings(s)
+      , n(ring.n)
+      , cage(cage_speed(s.bearing, s.inner_ring_speed))
+      , interface(ring, s.interface)
+      , balls(ring, s.bearing.ball_count, s.ball_stiffness, s.ball_damping, s.bearing.radial_clearance)
+      , force(ring.n)
+      , by_position(ring.n * ring.n)
+      , by_velocity(ring.n * ring.n)
+    {
+      const Eigen::Map<const RowMatrix> M(ring.mass.data(), n, n), K(ring.stiffness.data(), n, n);
+      mass.compute(M);
+      if (mass.info() != Eigen::Success)
+        throw std::invalid_argument("co-simulation: the reduced mass matrix is not positive definite");
+      mass_inverse_stiffness = mass.solve(Eigen::MatrixXd(K));
+      const double beta      = 2.0 * s.damping_ratio / (2.0 * M_PI * ring.lowest_elastic_frequency_hz);
+      mass_inverse_damping   = beta * mass_inverse_stiffness;
+
+      // A coordinate's tolerance is the change that moves the interface or
+      // the raceway by the displacement tolerance somewhere.
+      absolute_tolerance.assign(2 * n, 0.0);
+      const double velocity_scale = 2.0 * M_PI * ring.lowest_elastic_frequency_hz;
+      for (std::size_t j = 0; j < n; ++j)
+        {
+          double largest = 0.0;
+          for (std::size_t row = 0; row < ring.interface_displacement.size() / n; ++row)
+            largest = std::max(largest, std::abs(ring.interface_displacement[row * n + j]));
+          for (std::size_t k = 0; k < ring.raceway_angles; ++k)
+            largest = std::max(largest, std::abs(ring.raceway_approach[k * n + j]));
+          const double tolerance    = largest > 0.0 ? s.integrator.displacement_tolerance / largest : 1.0;
+          absolute_tolerance[j]     = tolerance;
+          absolute_tolerance[n + j] = tolerance * velocity_scale;
+        }
+    }
+
+    std::vector<double> ball_angles(double t) const
+    {
+      std::vector<double> angles(settings.bearing.ball_count);
+      for (unsigned int j = 0; j < angles.size(); ++j)
+        angles[j] = settings.first_ball_angle + 2.0 * M_PI * j / angles.size() + cage * t;
+      return angles;
+    }
+
+    void inner_ring(double t, double displacement[2], double velocity[2]) const
+    {
+      double value = 1.0, slope = 0.0;
+      if (settings.ramp_time > 0.0)
+        smooth_step(t / settings.ramp_time, value, slope);
+      const double rate = settings.ramp_time > 0.0 ? slope / settings.ramp_time : 0.0;
+      displacement[0]   = settings.inner_displacement_x * value;
+      displacement[1]   = settings.inner_displacement_y * value;
+      velocity[0]       = settings.inner_displacement_x * rate;
+      velocity[1]       = settings.inner_displacement_y * rate;
+    }
+
+    /// Generalised contact force at (t, q, q̇), and its derivatives if asked.
+    void contact_forces(double t, const double *q, const double *v, bool jacobian)
+    {
+      const auto start = Clock::now();
+      std::fill(force.begin(), force.end(), 0.0);
+      ForceOutput out{force.data(), nullptr, nullptr};
+      if (jacobian)
+        {
+          std::fill(by_position.begin(), by_position.end(), 0.0);
+          std::fill(by_velocity.begin(), by_velocity.end(), 0.0);
+          out.by_position = by_position.data();
+          out.by_velocity = by_velocity.data();
+        }
+      interface.add_forces(q, v, out);
+      double e[2], e_rate[2];
+      inner_ring(t, e, e_rate);
+      balls.add_forces(ball_angles(t), cage, e, e_rate, q, v, out);
+      stats.contact_seconds += seconds_since(start);
+    }
+
+    int rhs(double t, const double *y, double *y_rate)
+    {
+      const double *q = y, *v = y + n;
+      contact_forces(t, q, v, false);
+      const Eigen::Map<const Eigen::VectorXd> qv(q, n), vv(v, n), f(force.data(), n);
+      Eigen::Map<Eigen::VectorXd>(y_rate, n) = vv;
+      Eigen::Map<Eigen::VectorXd> acceleration(y_rate + n, n);
+      acceleration = mass.solve(f);
+      acceleration.noalias() -= mass_inverse_stiffness * qv + mass_inverse_damping * vv;
+      for (std::size_t k = 0; k < 2 * n; ++k)
+        if (!std::isfinite(y_rate[k]))
+          return 1; // recoverable: ARKODE retries with a smaller step
+      return 0;
+    }
+
+    /// J = [[0, I], [M⁻¹(∂F/∂q - K), M⁻¹(∂F/∂q̇ - C)]] into a column-major dense matrix.
+    int jacobian(double t, const double *y, double *columns, long leading)
+    {
+      contact_forces(t, y, y + n, true);
+      const Eigen::Map<const RowMatrix> dq(by_position.data(), n, n), dv(by_velocity.data(), n, n);
+      const Eigen::MatrixXd lower_left  = mass.solve(Eigen::MatrixXd(dq)) - mass_inverse_stiffness;
+      const Eigen::MatrixXd lower_right = mass.solve(Eigen::MatrixXd(dv)) - mass_inverse_damping;
+      Eigen::Map<Eigen::MatrixXd, 0, Eigen::OuterStride<>> J(columns, 2 * n, 2 * n, Eigen::OuterStride<>(leading));
+      J.setZero();
+      J.topRightCorner(n, n).setIdentity();
+      J.bottomLeftCorner(n, n)  = lower_left;
+      J.bottomRightCorner(n, n) = lower_right;
+      return J.allFinite() ? 0 : 1;
+    }
+  };
+
+  namespace
+  {
+    int arkode_rhs(realtype t, N_Vector y, N_Vector y_rate, void *data)
+    {
+      try
+        {
+          return static_cast<BearingCosimulation::Impl *>(data)->rhs(t, N_VGetArrayPointer(y),
+                                                                      N_VGetArrayPointer(y_rate));
+        }
+      catch (const std::exception &error)
+        {
+          static_cast<BearingCosimulation::Impl *>(data)->last_error = error.what();
+          return -1;
+        }
+    }
+
+    int arkode_jacobian(realtype t, N_Vector y, N_Vector, SUNMatrix J, void *data, N_Vector, N_Vector, N_Vector)
+    {
+      try
+        {
+          return static_cast<BearingCosimulation::Impl *>(data)->jacobian(t, N_VGetArrayPointer(y), SM_DATA_D(J),
+                                                                           SM_ROWS_D(J));
+        }
+      catch (const std::exception &error)
+        {
+          static_cast<BearingCosimulation::Impl *>(data)->last_error = error.what();
+          return -1;
+        }
+    }
+
+    void arkode_error(int, const char *, const char *function, char *message, void *data)
+    {
+      auto &last = static_cast<BearingCosimulation::Impl *>(data)->last_error;
+      last       = std::string(function) + ": " + message;
+    }
+
+    /// Owners of the SUNDIALS objects (C handles with their own destroy calls).
+    struct Sundials
+    {
+      SUNContext      context = nullptr;
+      N_Vector        state = nullptr, tolerance = nullptr;
+      SUNMatrix       matrix = nullptr;
+      SUNLinearSolver solver = nullptr;
+      void           *arkode = nullptr;
+      ~Sundials()
+      {
+        if (arkode)
+          ARKStepFree(&arkode);
+        if (solver)
+          SUNLinSolFree(solver);
+        if (matrix)
+          SUNMatDestroy(matrix);
+        if (tolerance)
+          N_VDestroy(tolerance);
+        if (state)
+          N_VDestroy(state);
+        if (context)
+          SUNContext_Free(&context);
+      }
+    };
+
+    void check(int flag, const char *call, const std::string &detail = "")
+    {
+      if (flag < 0)
+        throw std::runtime_error(std::string("co-simulation: ") + call + " failed (" +
+                                 ARKStepGetReturnFlagName(flag) + ")" + (detail.empty() ? "" : ": " + detail));
+    }
+  } // namespace
+
+  BearingCosimulation::BearingCosimulation(const ReducedRing &ring, const CosimulationSettings &s)
+  {
+    ring.check();
+    const auto positive = [](double value) { return value > 0.0 && std::isfinite(value); };
+    if (!positive(s.duration) || !positive(s.output_interval) || !positive(s.ball_stiffness) ||
+        !(s.ramp_time >= 0.0) || !(s.damping_ratio >= 0.0) || !positive(ring.lowest_elastic_frequency_hz))
+      throw std::invalid_argument("co-simulation: duration, output interval, ball stiffness and the lowest elastic "
+                                  "frequency must be positive; ramp time and damping ratio >= 0");
+    if (s.integrator.order < 2 || s.integrator.order > 5 || !positive(s.integrator.relative_tolerance) ||
+        !positive(s.integrator.displacement_tolerance))
+      throw std::invalid_argument("co-simulation: integrator order must be 2..5 and tolerances positive");
+    impl = std::make_unique<Impl>(ring, s);
+  }
+
+  BearingCosimulation::~BearingCosimulation() = default;
+
+  const IntegratorStatistics &BearingCosimulation::statistics() const { return impl->stats; }
+
+  std::vector<double> BearingCosimulation::ball_angles(double time) const { return impl->ball_angles(time); }
+
+  bool BearingCosimulation::run(const std::function<bool(const Snapshot &)> &observe)
+  {
+    Impl             &d = *impl;
+    const std::size_t n = d.n;
+    const auto       &s = d.settings;
+    Sundials          sun;
+    check(SUNContext_Create(nullptr, &sun.context), "SUNContext_Create");
+    sun.state     = N_VNew_Serial(static_cast<sunindextype>(2 * n), sun.context);
+    sun.tolerance = N_VNew_Serial(static_cast<sunindextype>(2 * n), sun.context);
+    double *y     = N_VGetArrayPointer(sun.state);
+    std::fill(y, y + 2 * n, 0.0);
+    std::copy(d.absolute_tolerance.begin(), d.absolute_tolerance.end(), N_VGetArrayPointer(sun.tolerance));
+    sun.arkode = ARKStepCreate(nullptr, arkode_rhs, 0.0, sun.state, sun.context);
+    if (sun.arkode == nullptr)
+      throw std::runtime_error("co-simulation: ARKStepCreate failed");
+    check(ARKStepSetUserData(sun.arkode, impl.get()), "ARKStepSetUserData");
+    check(ARKStepSetErrHandlerFn(sun.arkode, arkode_error, impl.get()), "ARKStepSetErrHandlerFn");
+    check(ARKStepSVtolerances(sun.arkode, s.integrator.relative_tolerance, sun.tolerance), "ARKStepSVtolerances");
+    sun.matrix = SUNDenseMatrix(static_cast<sunindextype>(2 * n), static_cast<sunindextype>(2 * n), sun.context);
+    sun.solver = SUNLinSol_Dense(sun.state, sun.matrix, sun.context);
+    check(ARKStepSetLinearSolver(sun.arkode, sun.solver, sun.matrix), "ARKStepSetLinearSolver");
+    check(ARKStepSetJacFn(sun.arkode, arkode_jacobian), "ARKStepSetJacFn");
+    check(ARKStepSetOrder(sun.arkode, s.integrator.order), "ARKStepSetOrder");
+    check(ARKStepSetMaxNumSteps(sun.arkode, s.integrator.maximum_steps), "ARKStepSetMaxNumSteps");
+    if (s.integrator.maximum_step > 0.0)
+      check(ARKStepSetMaxStep(sun.arkode, s.integrator.maximum_step), "ARKStepSetMaxStep");
+    if (s.integrator.initial_step > 0.0)
+      check(ARKStepSetInitStep(sun.arkode, s.integrator.initial_step), "ARKStepSetInitStep");
+
+    const auto emit = [&](double t) {
+      Snapshot snap;
+      snap.time               = t;
+      snap.pressure           = &d.interface.pressure();
+      snap.shear_x            = &d.interface.shear_x();
+      snap.shear_y            = &d.interface.shear_y();
+      snap.effective_friction = d.interface.effective_friction();
+      snap.contact_fraction   = d.interface.contact_fraction();
+      snap.slip_fraction      = d.interface.slip_fraction();
+      d.interface.resultant(snap.interface_force_x, snap.interface_force_y);
+      snap.q.assign(y, y + n);
+      snap.ball_angles = d.ball_angles(t);
+      double e[2], e_rate[2];
+      d.inner_ring(t, e, e_rate);
+      std::vector<double> scratch(n, 0.0);
+      d.balls.add_forces(snap.ball_angles, d.cage, e, e_rate, y, y + n, {scratch.data(), nullptr, nullptr});
+      snap.ball_loads = d.balls.loads();
+      for (std::size_t j = 0; j < snap.ball_loads.size(); ++j)
+        {
+          snap.ball_force_x += snap.ball_loads[j] * std::cos(snap.ball_angles[j]);
+          snap.ball_force_y += snap.ball_loads[j] * std::sin(snap.ball_angles[j]);
+        }
+      snap.inner_displacement_y = e[1];
+      return observe(snap);
+    };
+
+    d.interface.accept(y, y + n);
+    if (!emit(0.0))
+      return false;
+    const long   outputs = std::lround(s.duration / s.output_interval);
+    double       t       = 0.0;
+    d.stats.smallest_step = s.duration;
+    for (long k = 1; k <= outputs; ++k)
+      {
+        const double t_out = k * s.output_interval;
+        check(ARKStepSetStopTime(sun.arkode, t_out), "ARKStepSetStopTime");
+        while (t < t_out * (1.0 - 1e-12))
+          {
+            const auto   start        = Clock::now();
+            const double contact_time = d.stats.contact_seconds;
+            const int    flag         = ARKStepEvolve(sun.arkode, t_out, sun.state, &t, ARK_ONE_STEP);
+            d.stats.integrator_seconds += seconds_since(start) - (d.stats.contact_seconds - contact_time);
+            if (flag < 0)
+              {
+                std::ostringstream message;
+                message << "the integrator failed at t = " << t << " s (" << ARKStepGetReturnFlagName(flag) << ")"
+                        << (d.last_error.empty() ? "" : ": " + d.last_error)
+                        << ". Try a smaller Integrator/Maximum step or a looser tolerance.";
+                throw std::runtime_error(message.str());
+              }
+            double step = 0.0;
+            ARKStepGetLastStep(sun.arkode, &step);
+            d.stats.smallest_step = std::min(d.stats.smallest_step, step);
+            d.stats.largest_step  = std::max(d.stats.largest_step, step);
+            const auto accept_start = Clock::now();
+            d.interface.accept(y, y + n); // the paper's bristle update after the step
+            d.stats.contact_seconds += seconds_since(accept_start);
+          }
+        if (!emit(t_out))
+          return false;
+      }
+    long nfe = 0, nfi = 0;
+    ARKStepGetNumSteps(sun.arkode, &d.stats.steps);
+    ARKStepGetNumRhsEvals(sun.arkode, &nfe, &nfi);
+    d.stats.rhs_evaluations = nfi;
+    ARKStepGetNumNonlinSolvIters(sun.arkode, &d.stats.newton_iterations);
+    ARKStepGetNumNonlinSolvConvFails(sun.arkode, &d.stats.newton_failures);
+    ARKStepGetNumErrTestFails(sun.arkode, &d.stats.error_test_failures);
+    ARKStepGetNumJacEvals(sun.arkode, &d.stats.jacobian_evaluations);
+    ARKStepGetNumLinSolvSetups(sun.arkode, &d.stats.linear_setups);
+    ARKStepGetLastStep(sun.arkode, &d.stats.last_step);
+    return true;
+  }
+} // namespace fretsim::coupling

@@ -1,0 +1,94 @@
+#pragma once
+// The bearing-in-housing co-simulation (DESIGN.md §4, issue 8): the reduced
+// flexible outer ring
+//     M_r q̈ + C_r q̇ + K_r q = Σ_j Q_j r(ψ_j) + Σ_c A (G_c T)ᵀ t_c
+// driven by the cage-guided balls of a rigid, displaced and rotating inner
+// ring, and held by the rigid housing through the interface contact. SUNDIALS
+// ARKODE (ARKStep, diagonally implicit Runge–Kutta, adaptive steps, Newton with
+// a dense analytic Jacobian) integrates y = [q, q̇]; the bristle states are
+// committed after every accepted step (see ring_coupling.h). Structural
+// damping is stiffness-proportional, C_r = β K_r with β = 2ζ / ω_1.
+#include "coupling/bearing.h"
+#include "coupling/ring_coupling.h"
+
+#include <functional>
+#include <memory>
+#include <vector>
+
+namespace fretsim::coupling
+{
+  struct IntegratorSettings
+  {
+    int    order                  = 3;     ///< DIRK order, 2..5 (ARKODE's default tables)
+    double relative_tolerance     = 1e-4;  ///< [-]
+    /// Absolute tolerance as a displacement: each coordinate's tolerance is the
+    /// change that moves some interface point by this much [m].
+    double displacement_tolerance = 1e-11;
+    double maximum_step           = 0.0;   ///< [s], 0: no limit besides the output interval
+    double initial_step           = 0.0;   ///< [s], 0: ARKODE's estimate
+    long   maximum_steps          = 200000;///< per output interval
+  };
+
+  struct CosimulationSettings
+  {
+    BearingGeometry    bearing;
+    double             ball_stiffness      = 0.0; ///< K of Q = K δ^{3/2} (both contacts in series) [N/m^1.5]
+    double             ball_damping        = 0.0; ///< Hunt–Crossley α [s/m]
+    InterfaceSettings  interface;
+    double             inner_ring_speed    = 0.0; ///< ω_i [rad/s]
+    double             inner_displacement_x = 0.0, inner_displacement_y = 0.0; ///< final e [m]
+    /// e(t) = e · s(t/t_r), s the C¹ smooth step, so that the ring is not hit.
+    double             ramp_time           = 0.0; ///< [s]
+    double             first_ball_angle    = 0.0; ///< ψ_0 [rad]
+    double             duration            = 0.0; ///< [s]
+    double             output_interval     = 0.0; ///< [s]
+    double             damping_ratio       = 0.02;///< ζ at the lowest elastic frequency [-]
+    IntegratorSettings integrator;
+  };
+
+  /// The state at an output time, valid during the observer call.
+  struct Snapshot
+  {
+    double                     time = 0.0;
+    const contact::Field      *pressure = nullptr, *shear_x = nullptr, *shear_y = nullptr;
+    contact::Field             effective_friction;
+    std::vector<double>        ball_angles, ball_loads; ///< [rad], [N]
+    std::vector<double>        q;                       ///< modal coordinates
+    double contact_fraction = 0.0, slip_fraction = 0.0;
+    double interface_force_x = 0.0, interface_force_y = 0.0; ///< housing on ring [N]
+    double ball_force_x = 0.0, ball_force_y = 0.0;           ///< balls on ring [N]
+    double inner_displacement_y = 0.0;                        ///< [m]
+  };
+
+  struct IntegratorStatistics
+  {
+    long   steps = 0, rhs_evaluations = 0, newton_iterations = 0, newton_failures = 0, error_test_failures = 0,
+           jacobian_evaluations = 0, linear_setups = 0;
+    double last_step = 0.0, smallest_step = 0.0, largest_step = 0.0; ///< [s]
+    double integrator_seconds = 0.0; ///< wall time inside ARKODE, contact loads excluded
+    double contact_seconds    = 0.0; ///< wall time of the contact loads and their Jacobians
+  };
+
+  class BearingCosimulation
+  {
+  public:
+    /// Throws std::invalid_argument for settings that cannot run.
+    BearingCosimulation(const ReducedRing &ring, const CosimulationSettings &settings);
+    ~BearingCosimulation();
+
+    /// Integrates from 0 to the duration, calling `observe` at t = 0 and at
+    /// every output time; stops early (returning false) when `observe` returns
+    /// false. Throws std::runtime_error if the integrator fails, naming the
+    /// time and ARKODE's reason.
+    bool run(const std::function<bool(const Snapshot &)> &observe);
+
+    const IntegratorStatistics &statistics() const;
+    /// Ball angles at time t [rad].
+    std::vector<double> ball_angles(double time) const;
+
+    struct Impl; // public so that the SUNDIALS callbacks can reach it
+
+  private:
+    std::unique_ptr<Impl> impl;
+  };
+} // namespace fretsim::coupling

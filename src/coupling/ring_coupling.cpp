@@ -1,0 +1,329 @@
+#include "coupling/ring_coupling.h"
+
+#include "coupling/bearing.h"
+
+#include <fretsim/contact/bristle.h>
+
+#include <Eigen/Dense>
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace fretsim::coupling
+{
+  using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  using Eigen::VectorXd;
+
+  void ReducedRing::check() const
+  {
+    const auto fail = [](const std::string &what) { throw std::invalid_argument("reduced ring: " + what); };
+    if (n == 0)
+      fail("no coordinates");
+    if (mass.size() != n * n || stiffness.size() != n * n)
+      fail("mass and stiffness must be n x n");
+    if (interface_grid.size() == 0 || interface_displacement.size() != interface_grid.size() * 3 * n)
+      fail("the interface operator must have 3 n values per grid cell");
+    if (!(interface_radius > 0.0))
+      fail("the interface radius must be positive");
+    if (raceway_angles < 4 || raceway_approach.size() != raceway_angles * n)
+      fail("the raceway ball operator must have n values at each of at least 4 angles");
+  }
+
+  // ---------------------------------------------------------------------------
+  struct InterfaceContact::Impl
+  {
+    InterfaceSettings settings;
+    double            cell_area;
+    double            radius;
+    contact::SurfaceGrid grid;
+    std::size_t       n, cells;
+    // The operator split by component so that each product streams one
+    // contiguous matrix: radial rows for every cell, tangential ones only
+    // where the contact is closed.
+    RowMatrix radial, circumferential, axial; // [cell][n]
+
+    // Committed (last accepted) state.
+    contact::Field tau_x, tau_y, u_t, u_z, pressure;
+    // Trial state of the last evaluation.
+    contact::Field trial_tau_x, trial_tau_y, trial_pressure;
+    std::vector<unsigned char> loaded;
+
+    Impl(const ReducedRing &ring, const InterfaceSettings &s)
+      : settings(s)
+      , cell_area(ring.interface_grid.cell_area())
+      , radius(ring.interface_radius)
+      , grid(ring.interface_grid)
+      , n(ring.n)
+      , cells(ring.interface_grid.size())
+      , radial(cells, n)
+      , circumferential(cells, n)
+      , axial(cells, n)
+    {
+      for (std::size_t c = 0; c < cells; ++c)
+        for (std::size_t j = 0; j < n; ++j)
+          {
+            radial(c, j)          = ring.interface_displacement[(c * 3 + 0) * n + j];
+            circumferential(c, j) = ring.interface_displacement[(c * 3 + 1) * n + j];
+            axial(c, j)           = ring.interface_displacement[(c * 3 + 2) * n + j];
+          }
+      for (auto *field : {&tau_x, &tau_y, &u_t, &u_z, &pressure, &trial_tau_x, &trial_tau_y, &trial_pressure})
+        field->assign(cells, 0.0);
+      loaded.assign(cells, 0);
+    }
+
+    /// Pressure and tractions at a trial state; returns the per-cell 3×3
+    /// derivative blocks of the traction (t_r = -p, τ_θ, τ_z) by (u_r, u_θ, u_z)
+    /// and by u̇_r if asked.
+    void evaluate(const double *q_data, const double *v_data, const ForceOutput &out)
+    {
+      const Eigen::Map<const VectorXd> q(q_data, n), v(v_data, n);
+      const VectorXd u_r = radial * q, u_r_rate = radial * v;
+      const double   k_n = settings.normal_stiffness, c_n = k_n * settings.normal_damping_time;
+      const double   k_t = settings.tangential_stiffness, mu = settings.friction_coefficient;
+      VectorXd       t_r = VectorXd::Zero(cells), t_theta = VectorXd::Zero(cells), t_z = VectorXd::Zero(cells);
+      const bool     jacobian = out.by_position != nullptr;
+      std::vector<std::size_t> active;
+      std::vector<Eigen::Matrix3d> by_position, by_velocity;
+      for (std::size_t c = 0; c < cells; ++c)
+        {
+          const double penetration = settings.radial_interference + u_r[c];
+          double       p           = penetration > 0.0 ? k_n * penetration + c_n * u_r_rate[c] : 0.0;
+          const bool   damped_out  = p <= 0.0;
+          p                        = std::max(p, 0.0);
+          trial_pressure[c]        = p;
+          loaded[c]                = p > 0.0;
+          if (p <= 0.0 && tau_x[c] == 0.0 && tau_y[c] == 0.0)
+            {
+              trial_tau_x[c] = trial_tau_y[c] = 0.0;
+              continue;
+            }
+          const double ut = circumferential.row(c).dot(q), uz = axial.row(c).dot(q);
+          const double ds_x = -(ut - u_t[c]), ds_y = -(uz - u_z[c]);
+          const double mu_p = mu * p;
+          const auto   next = contact::bristle_step(tau_x[c], tau_y[c], k_t, mu_p, ds_x, ds_y);
+          trial_tau_x[c]    = next.x;
+          trial_tau_y[c]    = next.y;
+          t_r[c]            = -p;
+          t_theta[c]        = next.x;
+          t_z[c]            = next.y;
+          if (!jacobian || p <= 0.0)
+            continue;
+          // d(traction)/d(u): normal part, and the bristle's dependence on
+          // the slip and, through μ p, on the penetration.
+          Eigen::Matrix2d by_slip = Eigen::Matrix2d::Zero();
+          Eigen::Vector2d by_pressure = Eigen::Vector2d::Zero();
+          const Eigen::Vector2d numerator(tau_x[c] + k_t * ds_x, tau_y[c] + k_t * ds_y);
+          const double          slip = std::hypot(ds_x, ds_y);
+          const double          denominator = 1.0 + k_t * slip / mu_p;
+          if (mu_p > 0.0 && std::isfinite(denominator))
+            {
+              if ((numerator / denominator).norm() > mu_p)
+                { // on the Coulomb clamp: τ = μ p N/|N|
+                  const double          length = numerator.norm();
+                  const Eigen::Vector2d unit   = numerator / length;
+                  by_slip     = mu_p * k_t / length * (Eigen::Matrix2d::Identity() - unit * unit.transpose());
+                  by_pressure = mu * unit;
+                }
+              else
+                {
+                  by_slip = k_t / denominator * Eigen::Matrix2d::Identity();
+                  if (slip > 0.0)
+                    {
+                      const Eigen::Vector2d direction(ds_x / slip, ds_y / slip);
+                      by_slip -= numerator * (k_t / mu_p * direction.transpose()) / (denominator * denominator);
+                      by_pressure = numerator * (k_t * slip / (mu_p * p)) / (denominator * denominator);
+                    }
+                }
+            }
+          Eigen::Matrix3d position = Eigen::Matrix3d::Zero(), velocity = Eigen::Matrix3d::Zero();
+          if (!damped_out)
+            {
+              position(0, 0) = -k_n;
+              velocity(0, 0) = -c_n;
+              position.block<2, 1>(1, 0) = by_pressure * k_n;
+              velocity.block<2, 1>(1, 0) = by_pressure * c_n;
+            }
+          position.block<2, 2>(1, 1) = -by_slip; // ds = -du
+          active.push_back(c);
+          by_position.push_back(position);
+          by_velocity.push_back(velocity);
+        }
+      Eigen::Map<VectorXd> force(out.force, n);
+      force.noalias() += cell_area * (radial.transpose() * t_r);
+      force.noalias() += cell_area * (circumferential.transpose() * t_theta);
+      force.noalias() += cell_area * (axial.transpose() * t_z);
+      if (!jacobian)
+        return;
+      // ∂f/∂q = A Σ_c G_cᵀ D_c G_c over the loaded cells, as one product of
+      // the gathered rows.
+      const std::size_t m = active.size();
+      RowMatrix         rows(3 * m, n), weighted_position(3 * m, n), weighted_velocity(3 * m, n);
+      for (std::size_t a = 0; a < m; ++a)
+        {
+          const std::size_t c = active[a];
+          rows.row(3 * a)     = radial.row(c);
+          rows.row(3 * a + 1) = circumferential.row(c);
+          rows.row(3 * a + 2) = axial.row(c);
+          weighted_position.middleRows(3 * a, 3).noalias() = by_position[a] * rows.middleRows(3 * a, 3);
+          weighted_velocity.middleRows(3 * a, 3).noalias() = by_velocity[a] * rows.middleRows(3 * a, 3);
+        }
+      Eigen::Map<RowMatrix> dq(out.by_position, n, n), dv(out.by_velocity, n, n);
+      dq.noalias() += cell_area * (rows.transpose() * weighted_position);
+      dv.noalias() += cell_area * (rows.transpose() * weighted_velocity);
+    }
+  };
+
+  InterfaceContact::InterfaceContact(const ReducedRing &ring, const InterfaceSettings &settings)
+  {
+    ring.check();
+    if (!(settings.normal_stiffness > 0.0) || !std::isfinite(settings.normal_stiffness) ||
+        !(settings.tangential_stiffness > 0.0) || !std::isfinite(settings.tangential_stiffness))
+      throw std::invalid_argument("interface contact: stiffnesses must be positive and finite");
+    if (!(settings.friction_coefficient >= 0.0) || !std::isfinite(settings.friction_coefficient))
+      throw std::invalid_argument("interface contact: the friction coefficient must be finite and >= 0");
+    if (!(settings.normal_damping_time >= 0.0))
+      throw std::invalid_argument("interface contact: the damping time must be >= 0");
+    impl = std::make_unique<Impl>(ring, settings);
+  }
+
+  InterfaceContact::~InterfaceContact() = default;
+
+  void InterfaceContact::add_forces(const double *q, const double *velocity, const ForceOutput &out)
+  {
+    impl->evaluate(q, velocity, out);
+  }
+
+  void InterfaceContact::accept(const double *q, const double *velocity)
+  {
+    std::vector<double> scratch(impl->n, 0.0);
+    impl->evaluate(q, velocity, {scratch.data(), nullptr, nullptr});
+    impl->tau_x    = impl->trial_tau_x;
+    impl->tau_y    = impl->trial_tau_y;
+    impl->pressure = impl->trial_pressure;
+    // Every cell's tangential position, open ones too: a cell that closes
+    // during the next step slips from where it was, not from zero.
+    const Eigen::Map<const VectorXd> coordinates(q, impl->n);
+    Eigen::Map<VectorXd>(impl->u_t.data(), impl->cells) = impl->circumferential * coordinates;
+    Eigen::Map<VectorXd>(impl->u_z.data(), impl->cells) = impl->axial * coordinates;
+  }
+
+  const contact::Field &InterfaceContact::pressure() const { return impl->pressure; }
+  const contact::Field &InterfaceContact::shear_x() const { return impl->tau_x; }
+  const contact::Field &InterfaceContact::shear_y() const { return impl->tau_y; }
+
+  contact::Field InterfaceContact::effective_friction() const
+  {
+    contact::Field ratio(impl->cells, 0.0);
+    for (std::size_t c = 0; c < impl->cells; ++c)
+      if (impl->pressure[c] > 0.0)
+        ratio[c] = std::hypot(impl->tau_x[c], impl->tau_y[c]) / impl->pressure[c];
+    return ratio;
+  }
+
+  double InterfaceContact::contact_fraction() const
+  {
+    std::size_t loaded = 0;
+    for (const double p : impl->pressure)
+      loaded += p > 0.0;
+    return static_cast<double>(loaded) / impl->cells;
+  }
+
+  double InterfaceContact::slip_fraction() const
+  {
+    std::size_t loaded = 0, slipping = 0;
+    const double mu = impl->settings.friction_coefficient;
+    for (std::size_t c = 0; c < impl->cells; ++c)
+      if (impl->pressure[c] > 0.0)
+        {
+          ++loaded;
+          slipping += std::hypot(impl->tau_x[c], impl->tau_y[c]) >= (1.0 - 1e-3) * mu * impl->pressure[c];
+        }
+    return loaded > 0 ? static_cast<double>(slipping) / loaded : 0.0;
+  }
+
+  void InterfaceContact::resultant(double &force_x, double &force_y) const
+  {
+    force_x = force_y = 0.0;
+    const auto &g = impl->grid;
+    for (int j = 0; j < g.ny; ++j)
+      for (int i = 0; i < g.nx; ++i)
+        {
+          const std::size_t c     = g.index(i, j);
+          const double      theta = g.x(i) / impl->radius;
+          // traction (t_r, t_θ) = (-p, τ_θ) in the radial/hoop basis
+          const double t_r = -impl->pressure[c], t_theta = impl->tau_x[c];
+          force_x += impl->cell_area * (t_r * std::cos(theta) - t_theta * std::sin(theta));
+          force_y += impl->cell_area * (t_r * std::sin(theta) + t_theta * std::cos(theta));
+        }
+  }
+
+  // ---------------------------------------------------------------------------
+  struct BallContacts::Impl
+  {
+    std::size_t         n, angles;
+    RowMatrix           approach; // [angle][n]
+    unsigned int        balls;
+    double              stiffness, damping, clearance;
+    std::vector<double> loads;
+  };
+
+  BallContacts::BallContacts(const ReducedRing &ring, unsigned int ball_count, double stiffness, double damping,
+                             double radial_clearance)
+    : impl(std::make_unique<Impl>())
+  {
+    ring.check();
+    if (ball_count == 0 || !(stiffness > 0.0) || !(damping >= 0.0))
+      throw std::invalid_argument("ball contacts: need balls, a positive stiffness and a damping >= 0");
+    impl->n         = ring.n;
+    impl->angles    = ring.raceway_angles;
+    impl->approach  = Eigen::Map<const RowMatrix>(ring.raceway_approach.data(), ring.raceway_angles, ring.n);
+    impl->balls     = ball_count;
+    impl->stiffness = stiffness;
+    impl->damping   = damping;
+    impl->clearance = radial_clearance;
+    impl->loads.assign(ball_count, 0.0);
+  }
+
+  BallContacts::~BallContacts() = default;
+
+  void BallContacts::add_forces(const std::vector<double> &angles, double cage_speed, const double inner_displacement[2],
+                                const double inner_velocity[2], const double *q_data, const double *v_data,
+                                const ForceOutput &out)
+  {
+    const auto                        &d = *impl;
+    const Eigen::Map<const VectorXd>   q(q_data, d.n), v(v_data, d.n);
+    Eigen::Map<VectorXd>               force(out.force, d.n);
+    const double                       spacing = 2.0 * M_PI / d.angles;
+    VectorXd                           r(d.n), slope(d.n);
+    for (unsigned int j = 0; j < d.balls; ++j)
+      {
+        double position = std::fmod(angles[j], 2.0 * M_PI);
+        if (position < 0.0)
+          position += 2.0 * M_PI;
+        const double      scaled = position / spacing;
+        const std::size_t k0     = static_cast<std::size_t>(scaled) % d.angles, k1 = (k0 + 1) % d.angles;
+        const double      w      = scaled - std::floor(scaled);
+        r.noalias()     = (1.0 - w) * d.approach.row(k0).transpose() + w * d.approach.row(k1).transpose();
+        slope.noalias() = (d.approach.row(k1) - d.approach.row(k0)).transpose() / spacing;
+        const double c = std::cos(angles[j]), s = std::sin(angles[j]);
+        const double deflection = inner_displacement[0] * c + inner_displacement[1] * s - r.dot(q) - 0.5 * d.clearance;
+        // The ball moves along a deformed raceway: its approach changes with ψ too.
+        const double rate = inner_velocity[0] * c + inner_velocity[1] * s +
+                            cage_speed * (-inner_displacement[0] * s + inner_displacement[1] * c) - r.dot(v) -
+                            cage_speed * slope.dot(q);
+        const BallLoad load = ball_load(d.stiffness, d.damping, deflection, rate);
+        impl->loads[j]      = load.load;
+        force.noalias() += load.load * r;
+        if (out.by_position != nullptr)
+          {
+            Eigen::Map<RowMatrix> dq(out.by_position, d.n, d.n), dv(out.by_velocity, d.n, d.n);
+            dq.noalias() -= load.by_deflection * r * r.transpose();
+            dq.noalias() -= (load.by_deflection_rate * cage_speed) * r * slope.transpose();
+            dv.noalias() -= load.by_deflection_rate * r * r.transpose();
+          }
+      }
+  }
+
+  const std::vector<double> &BallContacts::loads() const { return impl->loads; }
+} // namespace fretsim::coupling

@@ -1,0 +1,143 @@
+#pragma once
+// The coupling layer between the reduced flexible outer ring and the contact
+// models (DESIGN.md §4). Displacements go from modal coordinates to contact
+// points through the model file's operators (consistent: u = G T q), loads go
+// back through their transposes (conservative: f_q = (G T)ᵀ (traction · area)),
+// so that the work of the contact loads on the ring is the same in both
+// descriptions. No FE, PETSc or SUNDIALS type appears here.
+//
+// How structural and local compliance are combined (nothing counted twice):
+//  * housing interface: the ring's compliance at every wavelength its
+//    Craig–Bampton basis resolves comes from the reduced model; the housing is
+//    rigid; the contact itself is a Winkler layer of normal stiffness k_n
+//    [Pa/m] (the compliance of the rough interface) and bristles of stiffness
+//    k_t tangentially (paper eq. 4). The half-space is NOT used for
+//    displacements here: the pressure spreads over half the circumference,
+//    where a half-space would re-count the ring's own elasticity. It gives the
+//    subsurface stresses under the interface tractions only.
+//  * ball contacts: the Hertz law carries the local indentation of ball and
+//    raceways; the reduced model the ring's global deformation, read as the
+//    work-conjugate approach r(ψ)·q of a Hertz-distributed unit ball load.
+//    Its fixed-interface modes resolve wavelengths of the order of the ring
+//    wall, not the sub-millimetre indentation, which they therefore leave to Hertz.
+#include <fretsim/contact/surface_grid.h>
+
+#include <memory>
+#include <vector>
+
+namespace fretsim::coupling
+{
+  /// A Craig–Bampton model of the outer ring as plain arrays (see
+  /// reduction/reduced_model.h for how they are made). Coordinates q ∈ R^n.
+  struct ReducedRing
+  {
+    std::size_t         n = 0;
+    std::vector<double> mass;      ///< M_r, n × n row-major
+    std::vector<double> stiffness; ///< K_r, n × n row-major
+    /// Lowest elastic free frequency [Hz] (sets the structural damping).
+    double lowest_elastic_frequency_hz = 0.0;
+
+    /// Interface grid unrolled on the ring outer surface of radius R: x = R θ
+    /// (θ from +x towards +y), y axial; displacement operator [cell][3][n]
+    /// giving (u_r outward, u_θ, u_z) [m per unit q].
+    double               interface_radius = 0.0;
+    contact::SurfaceGrid interface_grid;
+    std::vector<double>  interface_displacement;
+
+    /// Raceway ball operator: row k is Tᵀ f_k of a unit ball load at
+    /// ψ_k = 2π k / n_angles pushing outwards; r(ψ)·q is the raceway's
+    /// outward approach [m per unit q]. Interpolated linearly in ψ.
+    std::vector<double> raceway_approach; ///< [n_angles][n]
+    std::size_t         raceway_angles = 0;
+
+    /// Throws std::invalid_argument if the arrays do not fit together.
+    void check() const;
+  };
+
+  /// Housing interface contact settings (SI).
+  struct InterfaceSettings
+  {
+    double normal_stiffness     = 1e16; ///< k_n of the Winkler layer [Pa/m]
+    double normal_damping_time  = 0.0;  ///< c_n = k_n × this [s]
+    double tangential_stiffness = 1e16; ///< bristle stiffness k_t [Pa/m]
+    double friction_coefficient = 0.11; ///< μ [-]
+    /// Radial interference of the fit (ring outer radius minus housing bore),
+    /// negative for a clearance [m].
+    double radial_interference = 0.0;
+  };
+
+  /// Loads and their derivatives at a trial state, added into caller arrays:
+  /// force [n], and if not null, ∂force/∂q and ∂force/∂q̇ [n × n, row-major].
+  struct ForceOutput
+  {
+    double *force         = nullptr;
+    double *by_position   = nullptr;
+    double *by_velocity   = nullptr;
+  };
+
+  /// The ring outer surface against the rigid housing bore on the interface
+  /// grid: penetration d = δ_fit + u_r, pressure p = max(k_n d + c_n ḋ, 0) where
+  /// d > 0; tangential traction from the bristle model (paper eq. 4), advanced
+  /// by implicit Euler in the slip since the last accepted step:
+  ///     τ(q) = (τ_n + k_t ds(q)) / (1 + k_t |ds(q)| / (μ p(q))),
+  ///     ds = -(u_t(q) - u_t,n)   (the housing's shift relative to the ring).
+  /// Using the same update inside the integrator's residual (with the state of
+  /// the last accepted step frozen) lets the Newton solver see the bristle
+  /// stiffness, so very stiff bristles stay stable at large steps; accept()
+  /// then stores τ_{n+1} = τ(q_{n+1}) exactly as the paper's update after the step.
+  class InterfaceContact
+  {
+  public:
+    InterfaceContact(const ReducedRing &ring, const InterfaceSettings &settings);
+    ~InterfaceContact();
+
+    /// Tractions at (q, q̇) and their generalised force (and derivatives).
+    void add_forces(const double *q, const double *velocity, const ForceOutput &out);
+    /// Stores the bristle state at the accepted (q, q̇).
+    void accept(const double *q, const double *velocity);
+
+    /// Fields at the last accepted state [Pa] (pressure positive; shear_x
+    /// circumferential, shear_y axial: the housing's traction on the ring).
+    const contact::Field &pressure() const;
+    const contact::Field &shear_x() const;
+    const contact::Field &shear_y() const;
+    /// |τ| / p (the paper's effective friction coefficient), 0 without contact.
+    contact::Field effective_friction() const;
+    /// Loaded cells / all cells, and slipping cells (|τ| ≥ (1 - 1e-3) μ p) / loaded.
+    double contact_fraction() const;
+    double slip_fraction() const;
+    /// Resultant of the housing's tractions on the ring in the Cartesian x, y
+    /// directions [N] (last accepted state).
+    void resultant(double &force_x, double &force_y) const;
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> impl;
+  };
+
+  /// Massless cage-guided balls between the rigid inner ring and the flexible
+  /// outer raceway (see bearing.h): the deflection of ball j at ψ_j is
+  ///     δ_j = e · n(ψ_j) - r(ψ_j) · q - P_d / 2,
+  /// e the inner ring's displacement, n the outward unit radius; the load Q_j
+  /// acts on the ring as Q_j r(ψ_j) (generalised). r is interpolated linearly
+  /// between the stored angles, the same weights both ways.
+  class BallContacts
+  {
+  public:
+    BallContacts(const ReducedRing &ring, unsigned int ball_count, double stiffness, double damping,
+                 double radial_clearance);
+    ~BallContacts();
+
+    /// angles ψ_j [rad] and their rate (the cage speed) [rad/s]; inner ring
+    /// displacement (e_x, e_y) [m] and velocity [m/s].
+    void add_forces(const std::vector<double> &angles, double cage_speed, const double inner_displacement[2],
+                    const double inner_velocity[2], const double *q, const double *velocity,
+                    const ForceOutput &out);
+    /// Ball loads [N] of the last add_forces call.
+    const std::vector<double> &loads() const;
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> impl;
+  };
+} // namespace fretsim::coupling

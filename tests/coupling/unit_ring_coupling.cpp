@@ -1,0 +1,238 @@
+// The coupling layer's transfers and derivatives (ring_coupling.h): work
+// consistency of the interface and ball transfers, the analytic Jacobians
+// against finite differences, and the in-step bristle update against the
+// contact module's BristleTraction (paper eq. 4).
+#include "coupling/bearing.h"
+#include "coupling/ring_coupling.h"
+#include "synthetic_rings.h"
+
+#include <fretsim/contact/bristle.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+using namespace fretsim;
+using namespace fretsim::coupling;
+
+namespace
+{
+  /// A state where some interface cells are open, some stick and some slip:
+  /// the rigid-ring part pushes the ring up by 2 nm, random parts add ±1 nm.
+  std::vector<double> mixed_state(std::size_t n, unsigned seed, double scale)
+  {
+    std::mt19937                           generator(seed);
+    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+    std::vector<double>                    q(n);
+    for (double &value : q)
+      value = scale * uniform(generator);
+    return q;
+  }
+
+  std::vector<double> forces(InterfaceContact &contact, const std::vector<double> &q, const std::vector<double> &v)
+  {
+    std::vector<double> f(q.size(), 0.0);
+    contact.add_forces(q.data(), v.data(), {f.data(), nullptr, nullptr});
+    return f;
+  }
+
+  /// max |J - J_fd| / max |J| for the derivative by position (which = 0) or velocity.
+  /// h: the finite-difference step, ~1e-6 of the state's scale.
+  template <class Evaluate>
+  double jacobian_error(std::size_t n, const std::vector<double> &q, const std::vector<double> &v, int which,
+                        double h, const Evaluate &evaluate, const std::vector<double> &analytic)
+  {
+    double difference = 0.0, scale = 0.0;
+    for (std::size_t j = 0; j < n; ++j)
+      {
+        auto         plus_q = q, minus_q = q, plus_v = v, minus_v = v;
+        (which == 0 ? plus_q : plus_v)[j] += h;
+        (which == 0 ? minus_q : minus_v)[j] -= h;
+        const auto f_plus = evaluate(plus_q, plus_v), f_minus = evaluate(minus_q, minus_v);
+        for (std::size_t i = 0; i < n; ++i)
+          {
+            const double numeric = (f_plus[i] - f_minus[i]) / (2.0 * h);
+            difference           = std::max(difference, std::abs(numeric - analytic[i * n + j]));
+            scale                = std::max(scale, std::abs(analytic[i * n + j]));
+          }
+      }
+    return difference / scale;
+  }
+} // namespace
+
+TEST(InterfaceTransfer, VirtualWorkOfTheTractionsEqualsTheGeneralisedForceTimesTheCoordinates)
+{
+  // f_q = Σ A Gᵀ t must do on any δq the work Σ A t·(G δq) of the tractions
+  // on the grid displacements: the transfer is conservative by construction,
+  // and this catches a wrong area, component or sign in the code path.
+  const auto       ring = synthetic::random_ring(6, 24, 4, 1);
+  InterfaceSettings settings;
+  settings.normal_stiffness = settings.tangential_stiffness = 1e15;
+  settings.friction_coefficient = 0.3;
+  InterfaceContact contact(ring, settings);
+  auto             q = mixed_state(6, 2, 1e-9), v = mixed_state(6, 3, 1e-6);
+  contact.accept(q.data(), v.data()); // bristle state at a loaded configuration
+  auto q_next = q;
+  for (double &value : q_next)
+    value *= 1.3;
+  contact.accept(q_next.data(), v.data());
+  const auto f  = forces(contact, q_next, v);
+  const auto dq = mixed_state(6, 4, 1.0);
+  double     generalised = 0.0, on_grid = 0.0;
+  for (std::size_t j = 0; j < 6; ++j)
+    generalised += f[j] * dq[j];
+  const auto  &grid = ring.interface_grid;
+  for (std::size_t c = 0; c < grid.size(); ++c)
+    {
+      const double traction[3] = {-contact.pressure()[c], contact.shear_x()[c], contact.shear_y()[c]};
+      for (int k = 0; k < 3; ++k)
+        {
+          double displacement = 0.0;
+          for (std::size_t j = 0; j < 6; ++j)
+            displacement += ring.interface_displacement[(c * 3 + k) * 6 + j] * dq[j];
+          on_grid += grid.cell_area() * traction[k] * displacement;
+        }
+    }
+  EXPECT_NEAR(generalised, on_grid, 1e-12 * std::abs(on_grid)); // round-off of two summation orders
+  EXPECT_GT(contact.contact_fraction(), 0.2);
+  EXPECT_LT(contact.contact_fraction(), 0.8);
+}
+
+TEST(InterfaceTransfer, AnalyticJacobianMatchesFiniteDifferencesWithStickSlipAndOpenCells)
+{
+  const auto        ring = synthetic::random_ring(5, 36, 3, 7);
+  InterfaceSettings settings;
+  settings.normal_stiffness     = 1e15;
+  settings.tangential_stiffness = 2e15;
+  settings.friction_coefficient = 0.11;
+  settings.normal_damping_time  = 1e-6;
+  InterfaceContact contact(ring, settings);
+  const auto       q0 = mixed_state(5, 11, 1e-9), v = mixed_state(5, 12, 1e-6);
+  contact.accept(q0.data(), v.data());
+  auto q = q0;
+  for (std::size_t j = 0; j < q.size(); ++j)
+    q[j] += 0.02e-9 * std::cos(3.0 * j); // a slip increment: some cells stick, some slip
+  std::vector<double> f(5, 0.0), dq(25, 0.0), dv(25, 0.0);
+  contact.add_forces(q.data(), v.data(), {f.data(), dq.data(), dv.data()});
+  const auto evaluate = [&](const std::vector<double> &qq, const std::vector<double> &vv) { return forces(contact, qq, vv); };
+  // Central differences of a piecewise-smooth map: exact up to h² and the
+  // cells whose state flips within ±h (none at these h for this state).
+  EXPECT_LT(jacobian_error(5, q, v, 0, 1e-16, evaluate, dq), 1e-5);
+  EXPECT_LT(jacobian_error(5, q, v, 1, 1e-13, evaluate, dv), 1e-5);
+  // The state is in the bristles' nonlinear range in places (|τ| > μp/2)
+  // and nearly linear in others.
+  contact.accept(q.data(), v.data());
+  const auto ratio = contact.effective_friction();
+  int        nonlinear = 0, linear = 0;
+  for (const double r : ratio)
+    {
+      nonlinear += r > 0.5 * settings.friction_coefficient;
+      linear += r > 0.0 && r < 0.3 * settings.friction_coefficient;
+    }
+  EXPECT_GT(nonlinear, 5);
+  EXPECT_GT(linear, 5);
+}
+
+TEST(InterfaceTransfer, InStepBristleUpdateIsTheContactModulesBristleTraction)
+{
+  // accept() after a step must leave exactly what BristleTraction::advance
+  // gives for the same pressure and slip increments (paper eq. 4).
+  const auto        ring = synthetic::random_ring(4, 24, 2, 5);
+  InterfaceSettings settings;
+  settings.normal_stiffness     = 1e15;
+  settings.tangential_stiffness = 3e15;
+  settings.friction_coefficient = 0.2;
+  InterfaceContact        contact(ring, settings);
+  contact::BristleTraction reference(ring.interface_grid, settings.tangential_stiffness);
+  const std::vector<double> zero(4, 0.0);
+  std::vector<double>       previous_t(ring.interface_grid.size(), 0.0), previous_z = previous_t;
+  for (int step = 0; step < 6; ++step)
+    {
+      const auto q = mixed_state(4, 40 + step, 1e-9);
+      contact.accept(q.data(), zero.data());
+      contact::Field slip_x(ring.interface_grid.size()), slip_y(ring.interface_grid.size());
+      for (std::size_t c = 0; c < slip_x.size(); ++c)
+        {
+          double u_t = 0.0, u_z = 0.0;
+          for (std::size_t j = 0; j < 4; ++j)
+            {
+              u_t += ring.interface_displacement[(c * 3 + 1) * 4 + j] * q[j];
+              u_z += ring.interface_displacement[(c * 3 + 2) * 4 + j] * q[j];
+            }
+          // Where the cell was open the coupling keeps no slip history: the
+          // increment starts from the displacement at closing.
+          slip_x[c]     = -(u_t - previous_t[c]);
+          slip_y[c]     = -(u_z - previous_z[c]);
+          previous_t[c] = u_t;
+          previous_z[c] = u_z;
+        }
+      reference.advance(contact.pressure(), settings.friction_coefficient, slip_x, slip_y);
+      for (std::size_t c = 0; c < slip_x.size(); ++c)
+        {
+          const double scale = settings.friction_coefficient * std::max(contact.pressure()[c], 1.0);
+          ASSERT_NEAR(contact.shear_x()[c], reference.traction_x()[c], 1e-12 * scale) << "step " << step << " cell " << c;
+          ASSERT_NEAR(contact.shear_y()[c], reference.traction_y()[c], 1e-12 * scale);
+        }
+    }
+}
+
+TEST(BallTransfer, JacobianMatchesFiniteDifferencesAndLoadsActAlongTheOperator)
+{
+  const auto   ring = synthetic::random_ring(5, 8, 1, 9);
+  BallContacts balls(ring, 9, 7e9, 0.5, 10e-6);
+  std::vector<double> angles(9);
+  for (int j = 0; j < 9; ++j)
+    angles[j] = 0.3 + 2.0 * M_PI * j / 9;
+  const double e[2] = {1e-6, 40e-6}, e_rate[2] = {0.0, 1e-3};
+  const auto   q = mixed_state(5, 21, 2e-6), v = mixed_state(5, 22, 1e-3);
+  const auto   evaluate = [&](const std::vector<double> &qq, const std::vector<double> &vv) {
+    std::vector<double> f(5, 0.0);
+    balls.add_forces(angles, 120.0, e, e_rate, qq.data(), vv.data(), {f.data(), nullptr, nullptr});
+    return f;
+  };
+  std::vector<double> f(5, 0.0), dq(25, 0.0), dv(25, 0.0);
+  balls.add_forces(angles, 120.0, e, e_rate, q.data(), v.data(), {f.data(), dq.data(), dv.data()});
+  int loaded = 0;
+  for (const double load : balls.loads())
+    loaded += load > 0.0;
+  EXPECT_GT(loaded, 1);
+  EXPECT_LT(loaded, 9);
+  EXPECT_LT(jacobian_error(5, q, v, 0, 1e-12, evaluate, dq), 1e-5);
+  EXPECT_LT(jacobian_error(5, q, v, 1, 1e-9, evaluate, dv), 1e-5);
+}
+
+TEST(BallContactLaw, HertzConstantsMatchTheWorkedDeepGrooveExample)
+{
+  // REFERENCES.md §1.3: ball 7.938 mm, d_m 38.5 mm, f_i 0.52, W = 1000 N,
+  // E = 200 GPa, ν = 0.3 (E' = 219.78 GPa): exact δ = 11.831 µm (5 digits).
+  BearingGeometry bearing;
+  bearing.ball_diameter           = 7.938e-3;
+  bearing.pitch_diameter          = 38.5e-3;
+  bearing.inner_groove_conformity = 0.52;
+  const double contact_modulus    = 200e9 / (2.0 * (1.0 - 0.09));
+  const auto   k                  = ball_contact_stiffness(bearing, contact_modulus);
+  EXPECT_NEAR(std::pow(1000.0 / k.inner, 2.0 / 3.0), 11.831e-6, 0.0005e-6);
+  // Series law: one load through both contacts, deflections add.
+  const double load = 1500.0;
+  EXPECT_NEAR(std::pow(load / k.combined, 2.0 / 3.0),
+              std::pow(load / k.inner, 2.0 / 3.0) + std::pow(load / k.outer, 2.0 / 3.0), 1e-15);
+  // With equal groove conformities the concave outer race conforms better
+  // along the rolling direction: its contact is the stiffer one.
+  bearing.outer_groove_conformity = 0.52;
+  const auto equal                = ball_contact_stiffness(bearing, contact_modulus);
+  EXPECT_GT(equal.outer, equal.inner);
+  // Kinematics: f_c = f_i (1 - D/d_m)/2, BPFO = Z f_c (Harris & Kotzalas §5).
+  bearing.ball_count = 9;
+  EXPECT_NEAR(outer_ball_pass_frequency(bearing, 2.0 * M_PI * 50.0), 9 * 25.0 * (1.0 - 7.938 / 38.5), 1e-12);
+  EXPECT_THROW(ball_contact_stiffness({9, 0.05, 0.04, 0.52, 0.53, 0.0}, contact_modulus), std::invalid_argument);
+  EXPECT_THROW(ball_contact_stiffness({9, 0.01, 0.04, 0.5, 0.53, 0.0}, contact_modulus), std::invalid_argument);
+}
+
+TEST(BallContactLaw, DampingNeverPullsAndVanishesWithoutContact)
+{
+  EXPECT_EQ(ball_load(1e10, 1.0, -1e-6, 0.0).load, 0.0);
+  EXPECT_EQ(ball_load(1e10, 1.0, 1e-6, -10.0).load, 0.0); // separating fast: no tension
+  const auto q = ball_load(1e10, 1.0, 1e-6, 0.1);
+  EXPECT_NEAR(q.load, 1e10 * 1e-9 * 1.15, 1e-9);
+}

@@ -1,9 +1,11 @@
 // Model file (HDF5) and modal operators of a reduced model.
 #include <fretsim/fem/stress_sampler.h>
+#include <fretsim/fem/surface_point_map.h>
 #include <fretsim/reduction/reduced_model.h>
 
 #include <hdf5.h>
 
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <functional>
@@ -204,6 +206,51 @@ namespace fretsim::reduction
     return result;
   }
 
+  RacewayOperators raceway_operators(const CraigBampton &basis, const fem::ElasticModel &model,
+                                     const fem::RingGeometry &ring, const unsigned int n_angles,
+                                     const double semi_axis_circumferential, const double semi_axis_transverse)
+  {
+    RacewayOperators result;
+    result.semi_axis_circumferential = semi_axis_circumferential;
+    result.semi_axis_transverse      = semi_axis_transverse;
+    if (n_angles == 0)
+      return result;
+    // One point map per ball, located exactly as project_load() locates a
+    // single ball: a patch point within the search tolerance of two cells is
+    // placed by whichever the search meets first (and moved onto that cell),
+    // so only the same search gives the same row. The maps are built once and
+    // each basis field sampled through all of them: one pass over the n
+    // basis fields instead of n_angles load assemblies projected on all n.
+    std::vector<fem::PatchForces>     patches;
+    std::vector<fem::SurfacePointMap> maps;
+    for (unsigned int k = 0; k < n_angles; ++k)
+      {
+        fem::RacewayBallLoad ball;
+        ball.ring                      = ring;
+        ball.angle                     = 2.0 * M_PI * k / n_angles;
+        ball.contact_angle             = result.contact_angle;
+        ball.force                     = 1.0;
+        ball.semi_axis_circumferential = semi_axis_circumferential;
+        ball.semi_axis_transverse      = semi_axis_transverse;
+        patches.push_back(fem::raceway_patch_forces(ball));
+        maps.emplace_back(model, patches.back().points, fem::BoundaryId::raceway);
+        result.angles.push_back(ball.angle);
+      }
+    // f_kᵀ t_j = Σ_p F_p · (H_p t_j): the load vector is Hᵀ F (surface_point_map.h).
+    result.approach = assemble_operator(basis, n_angles, 1, [&](const fem::DisplacementField &u) {
+      std::vector<double> work(n_angles, 0.0);
+      for (unsigned int k = 0; k < n_angles; ++k)
+        {
+          const std::vector<fem::Vector3> at_points = maps[k].interpolate(u);
+          for (std::size_t p = 0; p < at_points.size(); ++p)
+            for (unsigned int d = 0; d < 3; ++d)
+              work[k] += patches[k].forces[p][d] * at_points[p][d];
+        }
+      return work;
+    });
+    return result;
+  }
+
   void write_model_file(const std::string &path, const ReducedModel &model)
   {
     const std::string temporary = path + ".tmp";
@@ -261,6 +308,15 @@ namespace fretsim::reduction
           write_array(file, "/operators/sample_points/stress", {n_points, 6, n_points > 0 ? n : 0}, p.stress);
           write_array(file, "/operators/sample_points/displacement",
                       {p.displacement.empty() ? 0 : n_points, 3, p.displacement.empty() ? 0 : n}, p.displacement);
+
+          const RacewayOperators &r        = model.raceway;
+          const hsize_t           n_angles = r.angles.size();
+          write_array(file, "/operators/raceway/angles", {n_angles}, r.angles);
+          write_array(file, "/operators/raceway/approach", {n_angles, n_angles > 0 ? n : 0}, r.approach);
+          Id raceway_group(H5Gopen2(file, "/operators/raceway", H5P_DEFAULT), H5Gclose);
+          write_number_attribute(raceway_group, "semi_axis_circumferential_m", r.semi_axis_circumferential);
+          write_number_attribute(raceway_group, "semi_axis_transverse_m", r.semi_axis_transverse);
+          write_number_attribute(raceway_group, "contact_angle_rad", r.contact_angle);
           if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0)
             throw std::runtime_error("cannot flush");
         }
@@ -344,6 +400,20 @@ namespace fretsim::reduction
         p.displacement = read_array(file, "/operators/sample_points/displacement");
         if (p.stress.size() != p.points.size() * 6 * n)
           throw std::runtime_error("sample point operators do not match the points and coordinate counts");
+
+        // Files written before the raceway operator existed have no group: empty.
+        if (H5Lexists(file, "/operators/raceway", H5P_DEFAULT) > 0)
+          {
+            RacewayOperators &r = model.raceway;
+            r.angles            = read_array(file, "/operators/raceway/angles");
+            r.approach          = read_array(file, "/operators/raceway/approach");
+            Id raceway_group(H5Gopen2(file, "/operators/raceway", H5P_DEFAULT), H5Gclose);
+            r.semi_axis_circumferential = read_number_attribute(raceway_group, "semi_axis_circumferential_m");
+            r.semi_axis_transverse      = read_number_attribute(raceway_group, "semi_axis_transverse_m");
+            r.contact_angle             = read_number_attribute(raceway_group, "contact_angle_rad");
+            if (r.approach.size() != r.angles.size() * n)
+              throw std::runtime_error("raceway operator does not match the angle and coordinate counts");
+          }
 
         // Provenance: every root attribute named provenance_*.
         std::vector<std::string> names;

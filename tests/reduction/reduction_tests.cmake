@@ -1,9 +1,9 @@
 # Reduction tests (included from tests/CMakeLists.txt): one executable per
-# file, plus the Craig–Bampton verification again under `mpiexec -np 2`
-# (the same numbers from a distributed model).
-fretsim_add_test_folder(reduction fretsim_reduction Eigen3::Eigen)
+# file, plus the Craig–Bampton and raceway operator verifications again under
+# `mpiexec -np 2` (the same numbers from a distributed model).
+fretsim_add_test_folder(reduction fretsim_reduction Eigen3::Eigen fretsim_hdf5) # hdf5: to write an older model file
 
-foreach(name verification_craig_bampton)
+foreach(name verification_craig_bampton verification_raceway_operator)
   if(TARGET test_reduction_${name})
     add_test(NAME reduction.mpi_np2.${name}
       COMMAND ${MPIEXEC_EXECUTABLE} ${MPIEXEC_NUMPROC_FLAG} 2 ${MPIEXEC_PREFLAGS}

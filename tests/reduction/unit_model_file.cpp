@@ -2,11 +2,14 @@
 // written (bit for bit: doubles stored as IEEE-754 64-bit); a file made from
 // other inputs (hash), a truncated file and a file that is not a model are
 // refused with a ModelFileError naming the file; a write never leaves the
-// temporary file behind.
+// temporary file behind. A file written before the raceway operator existed
+// (no /operators/raceway) reads with an empty one.
 #include <fretsim/reduction/reduced_model.h>
 
 #include <gtest/gtest.h>
+#include <hdf5.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <unistd.h>
@@ -41,6 +44,12 @@ namespace
     model.interface_grid.stress.assign(2 * 6 * 3, -1e6);
     model.sample_points.points = {{0.04, 0.0, 0.0}};
     model.sample_points.stress.assign(6 * 3, 3.5);
+    // Values whose decimal forms do not round-trip, to see bits kept.
+    model.raceway.angles   = {0.0, M_PI};
+    model.raceway.approach = {1.0 / 3.0, -2.0 / 7.0, 1e-9 / 3.0, std::nextafter(0.1, 1.0), -M_PI, 5e-324};
+    model.raceway.semi_axis_circumferential = 0.3e-3;
+    model.raceway.semi_axis_transverse      = 1.3e-3 / 3.0;
+    model.raceway.contact_angle             = 0.0;
     model.timings.total        = 1.5;
     model.provenance["mesh"]   = "parametric";
     model.input_hash           = fingerprint("inputs");
@@ -67,6 +76,33 @@ TEST(ModelFile, RoundTrip)
   EXPECT_EQ(back.sample_points.stress, original.sample_points.stress);
   EXPECT_EQ(back.provenance.at("mesh"), "parametric");
   EXPECT_EQ(back.timings.total, 1.5);
+  EXPECT_EQ(back.raceway.angles, original.raceway.angles);
+  EXPECT_EQ(back.raceway.approach, original.raceway.approach);
+  EXPECT_EQ(back.raceway.semi_axis_circumferential, original.raceway.semi_axis_circumferential);
+  EXPECT_EQ(back.raceway.semi_axis_transverse, original.raceway.semi_axis_transverse);
+  EXPECT_EQ(back.raceway.contact_angle, original.raceway.contact_angle);
+}
+
+TEST(ModelFile, OlderFileWithoutRacewayOperatorReadsAsEmpty)
+{
+  const auto path = scratch("model-old.h5");
+  write_model_file(path.string(), example());
+  {
+    const hid_t file = H5Fopen(path.string().c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(file, 0);
+    ASSERT_GE(H5Ldelete(file, "/operators/raceway", H5P_DEFAULT), 0);
+    H5Fclose(file);
+  }
+  const ReducedModel back = read_model_file(path.string());
+  EXPECT_TRUE(back.raceway.angles.empty());
+  EXPECT_TRUE(back.raceway.approach.empty());
+  EXPECT_EQ(back.interface_grid.displacement, example().interface_grid.displacement);
+
+  // No operator at all is written as an empty one, and reads back so.
+  ReducedModel none = example();
+  none.raceway      = {};
+  write_model_file(path.string(), none);
+  EXPECT_TRUE(read_model_file(path.string()).raceway.angles.empty());
 }
 
 TEST(ModelFile, RefusesOtherInputsTruncationAndForeignFiles)

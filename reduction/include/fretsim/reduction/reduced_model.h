@@ -12,6 +12,9 @@
 //   transpose of the displacement operator takes grid tractions back to the
 //   modal coordinates (f_q = (H T)ᵀ A t: conservative).
 //   sample points: stress at surface points (e.g. along the raceway).
+//   raceway: one row per ball position, Tᵀ f of a unit ball load there; the
+//   same row gives the raceway's approach (r·q) and the generalised force of
+//   a ball (Q r), so ball loads do no work the model does not store.
 #include <fretsim/fem/surface_grid_map.h>
 #include <fretsim/reduction/craig_bampton.h>
 
@@ -36,12 +39,25 @@ namespace fretsim::reduction
     std::vector<double>      stress;       ///< [point][6][n], cylindrical Voigt [Pa per unit q]
   };
 
+  /// Ball loads on the raceway (co-simulation): row k is Tᵀ f_k for a unit
+  /// Hertz-distributed ball load at ψ_k = 2π k / n_angles along the contact
+  /// normal (outwards); r_k·q is the raceway's outward approach there [m].
+  struct RacewayOperators
+  {
+    std::vector<double> angles;   ///< ψ_k [rad], ascending, uniform from 0; empty if none
+    std::vector<double> approach; ///< [angle][n] [m per unit q] (= N per unit q per N of ball load)
+    double semi_axis_circumferential = 0.0; ///< footprint used [m]
+    double semi_axis_transverse      = 0.0; ///< [m]
+    double contact_angle             = 0.0; ///< [rad]
+  };
+
   struct ReducedModel
   {
     ReducedMatrices     matrices;
     std::vector<double> free_frequencies_hz; ///< of (K_r, M_r), rigid-body modes included
     GridOperators       interface_grid;       ///< empty grid (nx = 0) if none was asked for
     PointOperators      sample_points;
+    RacewayOperators    raceway;              ///< empty angles if none was asked for (or an older file)
     ReductionTimings    timings;
     /// What the model was made from: mesh, material, boundary ids, mode
     /// counts, program version (written as string attributes).
@@ -72,6 +88,16 @@ namespace fretsim::reduction
                                 const fem::CylinderGrid &grid);
   PointOperators point_operators(const CraigBampton &basis, const fem::ElasticModel &model,
                                  const std::vector<fem::Point3> &points);
+  /// The raceway operator of `n_angles` ball positions on the raceway of
+  /// `ring` (contact angle 0), each ball a Hertz patch with the given semi-axes
+  /// [m] (fem::RacewayBallLoad): row k equals basis.project_load() of a unit
+  /// ball at ψ_k, computed for all balls at once from the basis fields
+  /// sampled at every patch point. Throws std::invalid_argument if a patch
+  /// leaves the groove or a point is off the mesh's raceway. Collective; the
+  /// result is the same on every rank.
+  RacewayOperators raceway_operators(const CraigBampton &basis, const fem::ElasticModel &model,
+                                     const fem::RingGeometry &ring, unsigned int n_angles,
+                                     double semi_axis_circumferential, double semi_axis_transverse);
 
   /// 64-bit FNV-1a of a text, as 16 hex digits (an input fingerprint, not a
   /// cryptographic hash).

@@ -10,8 +10,7 @@ namespace fretsim::reduction_testing
 {
   inline const fem::Material bearing_steel{208e9, 0.3, 7850.0};
 
-  inline std::shared_ptr<const fem::Mesh> ring_6208(unsigned int circumferential, unsigned int radial,
-                                                    unsigned int axial, unsigned int axial_land)
+  inline fem::RingGeometry ring_6208_geometry()
   {
     fem::RingGeometry g;
     g.bore_radius          = 0.0341;
@@ -19,6 +18,13 @@ namespace fretsim::reduction_testing
     g.width                = 0.018;
     g.groove_radius        = 0.006731;
     g.groove_bottom_radius = 0.03635;
+    return g;
+  }
+
+  inline std::shared_ptr<const fem::Mesh> ring_6208(unsigned int circumferential, unsigned int radial,
+                                                    unsigned int axial, unsigned int axial_land)
+  {
+    const fem::RingGeometry g = ring_6208_geometry();
     fem::MeshDivisions d;
     d.circumferential = circumferential;
     d.radial_ring     = radial;

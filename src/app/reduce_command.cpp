@@ -5,6 +5,7 @@
 
 #include <fretsim/fem/parallel_environment.h>
 #include <fretsim/fem/stress_sampler.h>
+#include <fretsim/fem/surface_point_map.h>
 #include <fretsim/fem/transient.h>
 #include <fretsim/reduction/craig_bampton.h>
 #include <fretsim/reduction/reduced_model.h>
@@ -39,6 +40,8 @@ namespace fretsim::app
       reduction::ReductionSettings  settings;
       unsigned int                  grid_cells_circumferential = 0, grid_cells_axial = 0;
       unsigned int                  points_per_line            = 0;
+      unsigned int                  raceway_ball_positions     = 0;
+      double                        footprint_circumferential = 0.0, footprint_transverse = 0.0; ///< [m]
       bool                          compare_with_full          = true;
       std::vector<unsigned int>     study_fixed_interface, study_interface;
       std::string                   input_hash;
@@ -99,6 +102,19 @@ namespace fretsim::app
       return text.str();
     }
 
+    /// A 1 N ball at θ = `angle` with the configured footprint, contact angle 0:
+    /// the load whose projection is one row of the raceway operator.
+    fem::RacewayBallLoad unit_ball(const ReduceRequest &r, const double angle)
+    {
+      fem::RacewayBallLoad ball;
+      ball.ring                      = r.body.ring;
+      ball.angle                     = angle;
+      ball.force                     = 1.0;
+      ball.semi_axis_circumferential = r.footprint_circumferential;
+      ball.semi_axis_transverse      = r.footprint_transverse;
+      return ball;
+    }
+
     ReduceRequest read_request(const SceneParameters &p)
     {
       ReduceRequest r;
@@ -115,6 +131,9 @@ namespace fretsim::app
       r.grid_cells_axial           = static_cast<unsigned int>(p.get_integer("Reduction/Interface grid axial cells"));
       r.points_per_line            = static_cast<unsigned int>(p.get_integer("Reduction/Sample points per line"));
       r.compare_with_full          = p.get_bool("Reduction/Compare with full FE");
+      r.raceway_ball_positions     = static_cast<unsigned int>(p.get_integer("Reduction/Raceway ball positions"));
+      r.footprint_circumferential  = p.get_double("Reduction/Ball footprint circumferential semi-axis");
+      r.footprint_transverse       = p.get_double("Reduction/Ball footprint transverse semi-axis");
       r.study_fixed_interface      = counts(p, "Reduction/Study fixed-interface modes");
       r.study_interface            = counts(p, "Reduction/Study characteristic constraint modes");
       if (r.settings.n_fixed_interface_modes == 0 && r.settings.n_characteristic_constraint_modes > 0 &&
@@ -129,6 +148,24 @@ namespace fretsim::app
         p.reject("Reduction/Interface grid circumferential cells",
                  "needs ring_outer among Reduction/Coupling surfaces (the grid lies on the ring outer surface); "
                  "set it to 0 for no grid");
+      if (r.raceway_ball_positions > 0)
+        {
+          // The balls are placed on the Ring section's raceway all round.
+          if (!r.body.gmsh_file.empty())
+            p.reject("Reduction/Raceway ball positions", "needs Mesh/Source = parametric (the balls are placed on the "
+                                                         "Ring section's raceway); set it to 0 for none");
+          if (r.body.divisions.sector_angle < 2.0 * M_PI * (1 - 1e-12))
+            p.reject("Reduction/Raceway ball positions", "needs the full ring (Divisions/Sector angle = 2 pi): the "
+                                                         "balls go all round; set it to 0 for none");
+          try
+            {
+              fem::raceway_patch_forces(unit_ball(r, 0.0));
+            }
+          catch (const std::invalid_argument &error)
+            {
+              p.reject("Reduction/Ball footprint transverse semi-axis", error.what());
+            }
+        }
       r.input_hash = reduction::fingerprint(input_text(p, r.body));
       r.provenance["program"]  = std::string("fretsim ") + FRETSIM_VERSION;
       r.provenance["mesh"]     = r.body.gmsh_file.empty() ? "parametric" : r.body.gmsh_file;
@@ -292,28 +329,25 @@ namespace fretsim::app
     /// The full-FE references: lowest 10 free modes, and the static squeeze
     /// on the interface grid (if there is one).
     FullReference full_reference(fem::ElasticModel &model, const reduction::CraigBampton &cb,
-                                 const fem::CylinderGrid &grid, const fem::RingGeometry &ring, double eigen_tolerance,
+                                 const fem::CylinderGrid &grid, const ReduceRequest &request,
                                  std::unique_ptr<fem::SurfaceGridMap> &map,
                                  std::unique_ptr<fem::StressSampler> &sampler)
     {
       FullReference      full;
       fem::ModalSettings modal;
       modal.n_modes            = 10;
-      modal.tolerance          = eigen_tolerance;
+      modal.tolerance          = request.settings.eigen_tolerance;
       const auto modes         = model.solve_modes(modal);
       full.free_frequencies_hz = modes.frequencies_hz;
       full.modal_seconds       = modes.seconds;
-      // Two balls pressing outwards at θ = 90° and 270° (2 kN each, the
-      // ellipse of a 6208 ball at that load): self-equilibrated, so the free
-      // ring needs no support.
+      // Two balls pressing outwards at θ = 90° and 270° (2 kN each, with the
+      // footprint of the raceway operator; the default is the ellipse of a
+      // 6208 ball at that load): self-equilibrated, so the free ring needs no
+      // support.
       for (const double angle : {0.5 * M_PI, 1.5 * M_PI})
         {
-          fem::RacewayBallLoad ball;
-          ball.ring                      = ring;
-          ball.angle                     = angle;
-          ball.force                     = 2000.0;
-          ball.semi_axis_circumferential = 0.3e-3;
-          ball.semi_axis_transverse      = ring.has_groove() ? 1.3e-3 : 0.3e-3;
+          fem::RacewayBallLoad ball = unit_ball(request, angle);
+          ball.force                = 2000.0;
           full.balls.ball_loads.push_back(ball);
         }
       if (grid.nx > 0)
@@ -333,6 +367,33 @@ namespace fretsim::app
           full.balls_stress   = sampler->evaluate(u_balls);
         }
       return full;
+    }
+
+    /// The raceway's outward approach at the first ball of `balls`, in the
+    /// full FE solution and in the reduced one: fᵀu with f the load vector of
+    /// that ball at 1 N, the work-conjugate measure that the raceway operator
+    /// stores (one point map on both fields, so both are measured alike) [m].
+    struct RacewayApproach
+    {
+      double full = 0.0, reduced = 0.0;
+    };
+
+    RacewayApproach raceway_approach(const fem::ElasticModel &model, const reduction::CraigBampton &cb,
+                                     const reduction::ReducedMatrices &reduced, const fem::StaticLoad &balls)
+    {
+      fem::RacewayBallLoad unit = balls.ball_loads.front();
+      unit.force                = 1.0;
+      const fem::PatchForces     patch = fem::raceway_patch_forces(unit);
+      const fem::SurfacePointMap map(model, patch.points, BoundaryId::raceway);
+      const auto approach = [&](const fem::DisplacementField &u) {
+        const std::vector<fem::Vector3> at_points = map.interpolate(u);
+        double                          work      = 0.0;
+        for (std::size_t p = 0; p < at_points.size(); ++p)
+          for (unsigned int d = 0; d < 3; ++d)
+            work += patch.forces[p][d] * at_points[p][d];
+        return work;
+      };
+      return {approach(cb.full_static(balls)), approach(cb.reduced_static(balls, reduced))};
     }
 
     std::string default_output(const RingHousingCommandOptions &options, const std::string &suffix)
@@ -381,9 +442,25 @@ namespace fretsim::app
                                 "Stress sample points on each of two circumferential lines in the mid-plane: the "
                                 "raceway bottom and the outer surface [-].",
                                 0, 100000),
+            Spec::integer_range("Reduction/Raceway ball positions", "720",
+                                "Ball positions psi_k = 2 pi k / n around the raceway (contact angle 0) at which the "
+                                "raceway operator is stored: the generalised force of a unit ball load there, whose "
+                                "product with the modal coordinates is the raceway's outward approach; the "
+                                "co-simulation interpolates linearly between them. Needs the full parametric ring; "
+                                "0: none [-].",
+                                0, 100000),
+            Spec::real_range("Reduction/Ball footprint circumferential semi-axis", "0.3e-3",
+                             "Semi-axis a of the Hertz ellipse of the unit ball loads along the circumference (that "
+                             "of a 6208 ball at 2 kN) [m].",
+                             0.0, 0.01, true),
+            Spec::real_range("Reduction/Ball footprint transverse semi-axis", "1.3e-3",
+                             "Semi-axis b of that ellipse along the groove arc, or axially on a plain bore; the "
+                             "ellipse must stay on the groove arc [m].",
+                             0.0, 0.01, true),
             Spec::selection("Reduction/Compare with full FE", "true",
                             "Also solve the full FE model (lowest 10 free modes, a static squeeze of the outer "
-                            "surface, two balls on the raceway) and report the reduced model's error against it [-].",
+                            "surface, two balls on the raceway and the raceway approach under them) and report the "
+                            "reduced model's error against it [-].",
                             "true|false"),
             study_m,
             study_cc};
@@ -427,6 +504,17 @@ namespace fretsim::app
       result.interface_grid = reduction::grid_operators(cb, model, BoundaryId::ring_outer, grid);
     result.sample_points = reduction::point_operators(cb, model, sample_points(request));
     const double operator_seconds = seconds_since(operator_start);
+    const auto   raceway_start    = Clock::now();
+    try
+      {
+        result.raceway = reduction::raceway_operators(cb, model, request.body.ring, request.raceway_ball_positions,
+                                                      request.footprint_circumferential, request.footprint_transverse);
+      }
+    catch (const std::invalid_argument &error) // a patch point the mesh's raceway does not hold
+      {
+        throw InputError(options.config_file, "Reduction/Raceway ball positions", error.what());
+      }
+    const double raceway_seconds = seconds_since(raceway_start);
     display("done", 1.0);
 
     result.input_hash = request.input_hash;
@@ -447,7 +535,13 @@ namespace fretsim::app
             << ", fixed-interface modes " << result.timings.fixed_interface_modes << ", interface modes "
             << result.timings.interface_modes << ", constraint modes " << result.timings.constraint_modes
             << ", reduced matrices " << result.timings.reduced_matrices << "); operators " << operator_seconds
-            << " s\n" << std::scientific << std::setprecision(1) << "symmetry:     |K_r - K_r^T| "
+            << " s\n";
+        if (!result.raceway.angles.empty())
+          out << "raceway:      " << result.raceway.angles.size() << " ball positions (footprint "
+              << std::setprecision(3) << 1e3 * request.footprint_circumferential << " x "
+              << 1e3 * request.footprint_transverse << " mm) in " << std::setprecision(2) << raceway_seconds
+              << " s\n";
+        out << std::scientific << std::setprecision(1) << "symmetry:     |K_r - K_r^T| "
             << m.stiffness_asymmetry << ", |M_r - M_r^T| " << m.mass_asymmetry << " (relative)\n"
             << std::defaultfloat;
       }
@@ -457,7 +551,7 @@ namespace fretsim::app
       {
         std::unique_ptr<fem::SurfaceGridMap> map;
         std::unique_ptr<fem::StressSampler>  sampler;
-        const FullReference full = full_reference(model, cb, grid, request.body.ring, request.settings.eigen_tolerance, map, sampler);
+        const FullReference full = full_reference(model, cb, grid, request, map, sampler);
         const Accuracy accuracy = measure(cb, m, result.free_frequencies_hz, full, model, map.get(), sampler.get());
         if (root)
           {
@@ -474,6 +568,18 @@ namespace fretsim::app
                   << "static balls on the raceway (2 x 2 kN, opposite): outer-surface u_r error " << std::scientific
                   << std::setprecision(2) << accuracy.balls_displacement << ", stress error " << accuracy.balls_stress << "\n";
             out << std::defaultfloat;
+          }
+        if (!result.raceway.angles.empty())
+          {
+            // The difference is the indentation-scale compliance under the
+            // footprint, which the reduced model does not carry (README).
+            const RacewayApproach approach = raceway_approach(model, cb, m, full.balls);
+            if (root)
+              out << std::scientific << std::setprecision(4)
+                  << "raceway approach under a 2 kN ball at 90 deg (the opposite one at 270 deg): full "
+                  << approach.full << " m, reduced " << approach.reduced << " m, difference "
+                  << approach.full - approach.reduced << " m\n"
+                  << std::defaultfloat;
           }
         result.provenance["full_free_frequencies_hz"] = [&] {
           std::ostringstream list;
@@ -517,7 +623,7 @@ namespace fretsim::app
     reference_basis.run();
     std::unique_ptr<fem::SurfaceGridMap> map;
     std::unique_ptr<fem::StressSampler>  sampler;
-    const FullReference full = full_reference(model, reference_basis, grid, request.body.ring, request.settings.eigen_tolerance, map, sampler);
+    const FullReference full = full_reference(model, reference_basis, grid, request, map, sampler);
     std::vector<fem::Support> clamps;
     for (const BoundaryId surface : request.settings.coupling_surfaces)
       clamps.push_back({surface});

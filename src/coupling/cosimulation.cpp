@@ -78,7 +78,11 @@ namespace fretsim::coupling
       // A coordinate's tolerance is the change that moves the interface or
       // the raceway by the displacement tolerance somewhere.
       absolute_tolerance.assign(2 * n, 0.0);
-      const double velocity_scale = 2.0 * M_PI * ring.lowest_elastic_frequency_hz;
+      // Velocities are held only loosely (the displacement tolerance per
+      // 10 ns): the motion is quasi-static at the ball pass rate, and the
+      // bristle update after every step kicks the stiff contact modes, whose
+      // velocity transients would otherwise set the step size.
+      const double velocity_scale = 1.0 / 1e-8;
       for (std::size_t j = 0; j < n; ++j)
         {
           double largest = 0.0;
@@ -275,7 +279,6 @@ namespace fretsim::coupling
     check(ARKStepSetLinearSolver(sun.arkode, sun.solver, sun.matrix), "ARKStepSetLinearSolver");
     check(ARKStepSetJacFn(sun.arkode, arkode_jacobian), "ARKStepSetJacFn");
     check(ARKStepSetOrder(sun.arkode, s.integrator.order), "ARKStepSetOrder");
-    check(ARKStepSetMaxNumSteps(sun.arkode, s.integrator.maximum_steps), "ARKStepSetMaxNumSteps");
     if (s.integrator.maximum_step > 0.0)
       check(ARKStepSetMaxStep(sun.arkode, s.integrator.maximum_step), "ARKStepSetMaxStep");
     if (s.integrator.initial_step > 0.0)
@@ -317,8 +320,19 @@ namespace fretsim::coupling
       {
         const double t_out = k * s.output_interval;
         check(ARKStepSetStopTime(sun.arkode, t_out), "ARKStepSetStopTime");
+        long steps_in_interval = 0;
         while (t < t_out * (1.0 - 1e-12))
           {
+            // ARKODE's own step limit counts per call, and each call here is one step.
+            if (++steps_in_interval > s.integrator.maximum_steps)
+              {
+                std::ostringstream message;
+                message << "the integrator failed at t = " << t << " s (more than " << s.integrator.maximum_steps
+                        << " steps in one output interval; smallest step " << d.stats.smallest_step
+                        << " s). Try a smaller Integrator/Maximum step, a looser Integrator/Relative tolerance, or "
+                           "a softer Interface/Normal stiffness.";
+                throw std::runtime_error(message.str());
+              }
             const auto   start        = Clock::now();
             const double contact_time = d.stats.contact_seconds;
             const int    flag         = ARKStepEvolve(sun.arkode, t_out, sun.state, &t, ARK_ONE_STEP);
@@ -328,7 +342,8 @@ namespace fretsim::coupling
                 std::ostringstream message;
                 message << "the integrator failed at t = " << t << " s (" << ARKStepGetReturnFlagName(flag) << ")"
                         << (d.last_error.empty() ? "" : ": " + d.last_error)
-                        << ". Try a smaller Integrator/Maximum step or a looser tolerance.";
+                        << ". Try a smaller Integrator/Maximum step, a looser Integrator/Relative tolerance, or "
+                           "a softer Interface/Normal stiffness.";
                 throw std::runtime_error(message.str());
               }
             double step = 0.0;

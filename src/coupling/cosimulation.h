@@ -26,7 +26,7 @@ namespace fretsim::coupling
     double displacement_tolerance = 1e-11;
     double maximum_step           = 0.0;   ///< [s], 0: no limit besides the output interval
     double initial_step           = 0.0;   ///< [s], 0: ARKODE's estimate
-    long   maximum_steps          = 200000;///< per output interval
+    long   maximum_steps          = 20000; ///< per output interval (then the run stops with a message)
   };
 
   struct CosimulationSettings

@@ -30,6 +30,14 @@ namespace fretsim::coupling
       fail("the raceway ball operator must have n values at each of at least 4 angles");
   }
 
+  namespace
+  {
+    /// |τ| / (μ p) above which a cell slides on within the next step. The
+    /// paper's law approaches the limit only asymptotically; at 0.9 its
+    /// tangent is a tenth of the stick stiffness.
+    constexpr double slip_threshold = 0.9;
+  } // namespace
+
   // ---------------------------------------------------------------------------
   struct InterfaceContact::Impl
   {
@@ -48,6 +56,10 @@ namespace fretsim::coupling
     // Trial state of the last evaluation.
     contact::Field trial_tau_x, trial_tau_y, trial_pressure;
     std::vector<unsigned char> loaded;
+    /// Cells whose committed traction is near the Coulomb limit (within the
+    /// step they slide on at the limit).
+    std::vector<unsigned char> slipping;
+    bool                       committing = false; ///< evaluating for accept()
 
     Impl(const ReducedRing &ring, const InterfaceSettings &s)
       : settings(s)
@@ -70,6 +82,7 @@ namespace fretsim::coupling
       for (auto *field : {&tau_x, &tau_y, &u_t, &u_z, &pressure, &trial_tau_x, &trial_tau_y, &trial_pressure})
         field->assign(cells, 0.0);
       loaded.assign(cells, 0);
+      slipping.assign(cells, 0);
     }
 
     /// Pressure and tractions at a trial state; returns the per-cell 3×3
@@ -101,41 +114,44 @@ namespace fretsim::coupling
           const double ut = circumferential.row(c).dot(q), uz = axial.row(c).dot(q);
           const double ds_x = -(ut - u_t[c]), ds_y = -(uz - u_z[c]);
           const double mu_p = mu * p;
-          const auto   next = contact::bristle_step(tau_x[c], tau_y[c], k_t, mu_p, ds_x, ds_y);
-          trial_tau_x[c]    = next.x;
-          trial_tau_y[c]    = next.y;
-          t_r[c]            = -p;
-          t_theta[c]        = next.x;
-          t_z[c]            = next.y;
-          if (!jacobian || p <= 0.0)
-            continue;
-          // d(traction)/d(u): normal part, and the bristle's dependence on
-          // the slip and, through μ p, on the penetration.
+          Eigen::Vector2d traction, by_pressure = Eigen::Vector2d::Zero();
           Eigen::Matrix2d by_slip = Eigen::Matrix2d::Zero();
-          Eigen::Vector2d by_pressure = Eigen::Vector2d::Zero();
-          const Eigen::Vector2d numerator(tau_x[c] + k_t * ds_x, tau_y[c] + k_t * ds_y);
-          const double          slip = std::hypot(ds_x, ds_y);
-          const double          denominator = 1.0 + k_t * slip / mu_p;
-          if (mu_p > 0.0 && std::isfinite(denominator))
-            {
-              if ((numerator / denominator).norm() > mu_p)
-                { // on the Coulomb clamp: τ = μ p N/|N|
-                  const double          length = numerator.norm();
-                  const Eigen::Vector2d unit   = numerator / length;
-                  by_slip     = mu_p * k_t / length * (Eigen::Matrix2d::Identity() - unit * unit.transpose());
-                  by_pressure = mu * unit;
+          if (committing)
+            { // the paper's implicit Euler update over the accepted step
+              const auto next = contact::bristle_step(tau_x[c], tau_y[c], k_t, mu_p, ds_x, ds_y);
+              traction        = {next.x, next.y};
+            }
+          else if (slipping[c])
+            { // sliding on: the traction keeps its ratio to the pressure (≥ 0.9 μ) and its direction
+              by_pressure = Eigen::Vector2d(tau_x[c], tau_y[c]) / pressure[c];
+              traction    = by_pressure * p;
+            }
+          else
+            { // sticking: the bristle is a linear spring within the step, capped
+              // at the Coulomb limit (so that very stiff bristles cannot push
+              // the in-step traction far beyond what the update will accept)
+              const Eigen::Vector2d trial(tau_x[c] + k_t * ds_x, tau_y[c] + k_t * ds_y);
+              const double          length = trial.norm();
+              if (length <= mu_p)
+                {
+                  traction = trial;
+                  by_slip  = k_t * Eigen::Matrix2d::Identity();
                 }
               else
                 {
-                  by_slip = k_t / denominator * Eigen::Matrix2d::Identity();
-                  if (slip > 0.0)
-                    {
-                      const Eigen::Vector2d direction(ds_x / slip, ds_y / slip);
-                      by_slip -= numerator * (k_t / mu_p * direction.transpose()) / (denominator * denominator);
-                      by_pressure = numerator * (k_t * slip / (mu_p * p)) / (denominator * denominator);
-                    }
+                  const Eigen::Vector2d unit = trial / length;
+                  traction                   = mu_p * unit;
+                  by_slip     = mu_p * k_t / length * (Eigen::Matrix2d::Identity() - unit * unit.transpose());
+                  by_pressure = mu * unit;
                 }
             }
+          trial_tau_x[c] = traction.x();
+          trial_tau_y[c] = traction.y();
+          t_r[c]         = -p;
+          t_theta[c]     = traction.x();
+          t_z[c]         = traction.y();
+          if (!jacobian || p <= 0.0)
+            continue;
           Eigen::Matrix3d position = Eigen::Matrix3d::Zero(), velocity = Eigen::Matrix3d::Zero();
           if (!damped_out)
             {
@@ -197,10 +213,16 @@ namespace fretsim::coupling
   void InterfaceContact::accept(const double *q, const double *velocity)
   {
     std::vector<double> scratch(impl->n, 0.0);
+    impl->committing = true;
     impl->evaluate(q, velocity, {scratch.data(), nullptr, nullptr});
+    impl->committing = false;
     impl->tau_x    = impl->trial_tau_x;
     impl->tau_y    = impl->trial_tau_y;
     impl->pressure = impl->trial_pressure;
+    for (std::size_t c = 0; c < impl->cells; ++c)
+      impl->slipping[c] = impl->pressure[c] > 0.0 &&
+                          std::hypot(impl->tau_x[c], impl->tau_y[c]) >=
+                            slip_threshold * impl->settings.friction_coefficient * impl->pressure[c];
     // Every cell's tangential position, open ones too: a cell that closes
     // during the next step slips from where it was, not from zero.
     const Eigen::Map<const VectorXd> coordinates(q, impl->n);

@@ -70,6 +70,11 @@ namespace fretsim::fem
   /// through the model's constraints.
   dealii::PETScWrappers::MPI::Vector assemble_load(const ElasticModel::Impl &model, const StaticLoad &load);
 
+  /// The six rigid-body modes (translations along x, y, z; rotations e_k × x
+  /// about the axes through the origin) as PETSc vectors laid out like K's
+  /// columns, Euclidean-orthonormalised if asked. The caller destroys them.
+  std::vector<Vec> rigid_body_modes(const ElasticModel::Impl &model, bool orthonormalise = true);
+
   /// Seconds since `start`.
   inline double seconds_since(const std::chrono::steady_clock::time_point start)
   {

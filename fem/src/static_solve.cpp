@@ -103,56 +103,60 @@ namespace fretsim::fem
                                  std::to_string(static_cast<int>(error)) + ")");
     }
 
-    /// The six rigid-body modes (three translations, three rotations about the
-    /// centroid-free origin), orthonormalised, as PETSc vectors.
-    std::vector<Vec> rigid_body_modes(const ElasticModel::Impl &model)
-    {
-      std::map<dealii::types::global_dof_index, dealii::Point<3>> points;
-      dealii::DoFTools::map_dofs_to_support_points(model.mapping, model.dof_handler, points);
-      std::vector<dealii::types::global_dof_index> dof_indices(model.fe.n_dofs_per_cell());
-      std::map<dealii::types::global_dof_index, unsigned int> component_of;
-      for (const auto &cell : model.dof_handler.active_cell_iterators())
-        if (cell->is_locally_owned())
-          {
-            cell->get_dof_indices(dof_indices);
-            for (unsigned int i = 0; i < dof_indices.size(); ++i)
-              if (model.owned_dofs.is_element(dof_indices[i]))
-                component_of[dof_indices[i]] = model.fe.system_to_component_index(i).first;
-          }
-      std::vector<dealii::PETScWrappers::MPI::Vector> modes(6);
-      for (auto &m : modes)
-        m.reinit(model.owned_dofs, model.communicator());
-      for (const auto &[dof, c] : component_of)
-        {
-          const dealii::Point<3> &x = points.at(dof);
-          modes[c][dof]             = 1.0;
-          // Rotation about axis k: u = e_k × x.
-          for (unsigned int k = 0; k < 3; ++k)
-            {
-              dealii::Tensor<1, 3> axis;
-              axis[k]                   = 1.0;
-              const dealii::Tensor<1, 3> u = dealii::cross_product_3d(axis, static_cast<dealii::Tensor<1, 3>>(x));
-              modes[3 + k][dof]         = u[c];
-            }
-        }
-      std::vector<Vec> vecs(6);
-      for (unsigned int i = 0; i < 6; ++i)
-        {
-          modes[i].compress(dealii::VectorOperation::insert);
-          check_petsc(VecDuplicate(static_cast<Vec>(modes[i]), &vecs[i]), "VecDuplicate");
-          check_petsc(VecCopy(static_cast<Vec>(modes[i]), vecs[i]), "VecCopy");
-          // Gram–Schmidt: MatNullSpaceCreate wants an orthonormal set.
-          for (unsigned int j = 0; j < i; ++j)
-            {
-              PetscScalar dot;
-              check_petsc(VecDot(vecs[i], vecs[j], &dot), "VecDot");
-              check_petsc(VecAXPY(vecs[i], -dot, vecs[j]), "VecAXPY");
-            }
-          check_petsc(VecNormalize(vecs[i], nullptr), "VecNormalize");
-        }
-      return vecs;
-    }
+  } // namespace
 
+  std::vector<Vec> rigid_body_modes(const ElasticModel::Impl &model, const bool orthonormalise)
+  {
+    std::map<dealii::types::global_dof_index, dealii::Point<3>> points;
+    dealii::DoFTools::map_dofs_to_support_points(model.mapping, model.dof_handler, points);
+    std::vector<dealii::types::global_dof_index> dof_indices(model.fe.n_dofs_per_cell());
+    std::map<dealii::types::global_dof_index, unsigned int> component_of;
+    for (const auto &cell : model.dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          cell->get_dof_indices(dof_indices);
+          for (unsigned int i = 0; i < dof_indices.size(); ++i)
+            if (model.owned_dofs.is_element(dof_indices[i]))
+              component_of[dof_indices[i]] = model.fe.system_to_component_index(i).first;
+        }
+    std::vector<dealii::PETScWrappers::MPI::Vector> modes(6);
+    for (auto &m : modes)
+      m.reinit(model.owned_dofs, model.communicator());
+    for (const auto &[dof, c] : component_of)
+      {
+        const dealii::Point<3> &x = points.at(dof);
+        modes[c][dof]             = 1.0;
+        // Rotation about axis k: u = e_k × x.
+        for (unsigned int k = 0; k < 3; ++k)
+          {
+            dealii::Tensor<1, 3> axis;
+            axis[k]                   = 1.0;
+            const dealii::Tensor<1, 3> u = dealii::cross_product_3d(axis, static_cast<dealii::Tensor<1, 3>>(x));
+            modes[3 + k][dof]         = u[c];
+          }
+      }
+    std::vector<Vec> vecs(6);
+    for (unsigned int i = 0; i < 6; ++i)
+      {
+        modes[i].compress(dealii::VectorOperation::insert);
+        check_petsc(VecDuplicate(static_cast<Vec>(modes[i]), &vecs[i]), "VecDuplicate");
+        check_petsc(VecCopy(static_cast<Vec>(modes[i]), vecs[i]), "VecCopy");
+        if (!orthonormalise)
+          continue;
+        // Gram–Schmidt: MatNullSpaceCreate wants an orthonormal set.
+        for (unsigned int j = 0; j < i; ++j)
+          {
+            PetscScalar dot;
+            check_petsc(VecDot(vecs[i], vecs[j], &dot), "VecDot");
+            check_petsc(VecAXPY(vecs[i], -dot, vecs[j]), "VecAXPY");
+          }
+        check_petsc(VecNormalize(vecs[i], nullptr), "VecNormalize");
+      }
+    return vecs;
+  }
+
+  namespace
+  {
     unsigned int solve_gamg(const ElasticModel::Impl &model, const dealii::PETScWrappers::MPI::Vector &rhs,
                             dealii::PETScWrappers::MPI::Vector &solution, const SolverSettings &settings)
     {

@@ -87,12 +87,13 @@ namespace fretsim::app
 
     /// The inputs that define the reduced model, as canonical text: every
     /// parameter of the body and reduction sections (not the study lists, not
-    /// the output), plus the mesh file's bytes.
+    /// the comparison switch, not the output), plus the mesh file's bytes.
     std::string input_text(const SceneParameters &p, const RingHousingRequest &body)
     {
       std::ostringstream text;
       for (const auto &spec : p.specs())
-        if (spec.path.rfind("Reduction/Study", 0) != 0 && spec.path.rfind("FE run", 0) != 0)
+        if (spec.path.rfind("Reduction/Study", 0) != 0 && spec.path.rfind("FE run", 0) != 0 &&
+            spec.path != "Reduction/Compare with full FE")
           text << spec.path << '=' << p.get(spec.path) << '\n';
       if (!body.gmsh_file.empty())
         {
@@ -601,6 +602,12 @@ namespace fretsim::app
     if (root) // one list for the whole job: the CLI prints what it gets back
       files.push_back(model_path);
     return files;
+  }
+
+  std::string reduce_input_hash(const std::string &config_file,
+                                const std::vector<std::pair<std::string, std::string>> &overrides)
+  {
+    return read_request(read_ring_housing_parameters(config_file, overrides)).input_hash;
   }
 
   std::vector<std::string> run_reduction_study(const RingHousingCommandOptions &options, std::ostream &out)

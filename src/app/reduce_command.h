@@ -22,5 +22,10 @@ namespace fretsim::app
   /// each against the full FE model (lowest 10 frequencies with the boundary
   /// free and clamped, a static squeeze of the outer surface); writes
   /// reduction_study.csv and a PNG into the output directory.
+  /// The input hash `reduce` writes into the model file of this ring_housing
+  /// configuration (with these overrides), computed without building anything;
+  /// a model file is current when its hash matches. Throws InputError.
+  std::string reduce_input_hash(const std::string &config_file,
+                                const std::vector<std::pair<std::string, std::string>> &overrides = {});
   std::vector<std::string> run_reduction_study(const RingHousingCommandOptions &options, std::ostream &out);
 } // namespace fretsim::app

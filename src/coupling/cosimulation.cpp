@@ -3,7 +3,6 @@
 #include <arkode/arkode_arkstep.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
-#include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
 #include <Eigen/Dense>
@@ -203,6 +202,51 @@ namespace fretsim::coupling
       last       = std::string(function) + ": " + message;
     }
 
+    /// A SUNDIALS direct linear solver that factorises the dense Newton
+    /// matrix with Eigen's blocked partial-pivoting LU: several times faster
+    /// than SUNDIALS' own unblocked dense LU at these sizes (a few hundred).
+    struct EigenLu
+    {
+      Eigen::PartialPivLU<Eigen::MatrixXd> lu;
+    };
+
+    SUNLinearSolver_Type eigen_lu_type(SUNLinearSolver) { return SUNLINEARSOLVER_DIRECT; }
+
+    int eigen_lu_setup(SUNLinearSolver solver, SUNMatrix A)
+    {
+      const auto rows = SM_ROWS_D(A), columns = SM_COLUMNS_D(A);
+      static_cast<EigenLu *>(solver->content)->lu.compute(Eigen::Map<const Eigen::MatrixXd>(SM_DATA_D(A), rows, columns));
+      return 0;
+    }
+
+    int eigen_lu_solve(SUNLinearSolver solver, SUNMatrix, N_Vector x, N_Vector b, realtype)
+    {
+      const auto &lu   = static_cast<EigenLu *>(solver->content)->lu;
+      const auto  size = lu.rows();
+      Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(x), size) =
+        lu.solve(Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(b), size));
+      return 0;
+    }
+
+    int eigen_lu_free(SUNLinearSolver solver)
+    {
+      delete static_cast<EigenLu *>(solver->content);
+      solver->content = nullptr;
+      SUNLinSolFreeEmpty(solver);
+      return 0;
+    }
+
+    SUNLinearSolver make_eigen_lu(SUNContext context)
+    {
+      SUNLinearSolver solver = SUNLinSolNewEmpty(context);
+      solver->content        = new EigenLu;
+      solver->ops->gettype   = eigen_lu_type;
+      solver->ops->setup     = eigen_lu_setup;
+      solver->ops->solve     = eigen_lu_solve;
+      solver->ops->free      = eigen_lu_free;
+      return solver;
+    }
+
     /// Owners of the SUNDIALS objects (C handles with their own destroy calls).
     struct Sundials
     {
@@ -275,10 +319,11 @@ namespace fretsim::coupling
     check(ARKStepSetErrHandlerFn(sun.arkode, arkode_error, impl.get()), "ARKStepSetErrHandlerFn");
     check(ARKStepSVtolerances(sun.arkode, s.integrator.relative_tolerance, sun.tolerance), "ARKStepSVtolerances");
     sun.matrix = SUNDenseMatrix(static_cast<sunindextype>(2 * n), static_cast<sunindextype>(2 * n), sun.context);
-    sun.solver = SUNLinSol_Dense(sun.state, sun.matrix, sun.context);
+    sun.solver = make_eigen_lu(sun.context);
     check(ARKStepSetLinearSolver(sun.arkode, sun.solver, sun.matrix), "ARKStepSetLinearSolver");
     check(ARKStepSetJacFn(sun.arkode, arkode_jacobian), "ARKStepSetJacFn");
     check(ARKStepSetOrder(sun.arkode, s.integrator.order), "ARKStepSetOrder");
+    check(ARKStepSetMaxNonlinIters(sun.arkode, s.integrator.maximum_newton_iterations), "ARKStepSetMaxNonlinIters");
     if (s.integrator.maximum_step > 0.0)
       check(ARKStepSetMaxStep(sun.arkode, s.integrator.maximum_step), "ARKStepSetMaxStep");
     if (s.integrator.initial_step > 0.0)

@@ -27,6 +27,10 @@ namespace fretsim::coupling
     double maximum_step           = 0.0;   ///< [s], 0: no limit besides the output interval
     double initial_step           = 0.0;   ///< [s], 0: ARKODE's estimate
     long   maximum_steps          = 20000; ///< per output interval (then the run stops with a message)
+    /// Newton iterations per stage before ARKODE cuts the step: the contact
+    /// laws have kinks (cells opening, bristles reaching the limit) that cost
+    /// a few more iterations than smooth problems.
+    int    maximum_newton_iterations = 3;
   };
 
   struct CosimulationSettings

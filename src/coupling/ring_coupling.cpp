@@ -46,10 +46,28 @@ namespace fretsim::coupling
     double            radius;
     contact::SurfaceGrid grid;
     std::size_t       n, cells;
-    // The operator split by component so that each product streams one
-    // contiguous matrix: radial rows for every cell, tangential ones only
-    // where the contact is closed.
-    RowMatrix radial, circumferential, axial; // [cell][n]
+    // The operator as [cell][3][n] rows: a loaded cell's three rows are one
+    // contiguous block, read once for its displacement and once (from cache)
+    // for its generalised force; the radial rows alone are a strided view.
+    RowMatrix rows;
+    // Per-cell derivative blocks of the last Jacobian evaluation.
+    std::vector<Eigen::Matrix3d> block_position, block_velocity;
+
+    Eigen::Map<const RowMatrix, 0, Eigen::OuterStride<>> radial() const
+    {
+      return {rows.data(), static_cast<Eigen::Index>(cells), static_cast<Eigen::Index>(n),
+              Eigen::OuterStride<>(3 * static_cast<Eigen::Index>(n))};
+    }
+    Eigen::Map<const RowMatrix, 0, Eigen::OuterStride<>> circumferential() const
+    {
+      return {rows.data() + n, static_cast<Eigen::Index>(cells), static_cast<Eigen::Index>(n),
+              Eigen::OuterStride<>(3 * static_cast<Eigen::Index>(n))};
+    }
+    Eigen::Map<const RowMatrix, 0, Eigen::OuterStride<>> axial() const
+    {
+      return {rows.data() + 2 * n, static_cast<Eigen::Index>(cells), static_cast<Eigen::Index>(n),
+              Eigen::OuterStride<>(3 * static_cast<Eigen::Index>(n))};
+    }
 
     // Committed (last accepted) state.
     contact::Field tau_x, tau_y, u_t, u_z, pressure;
@@ -68,17 +86,10 @@ namespace fretsim::coupling
       , grid(ring.interface_grid)
       , n(ring.n)
       , cells(ring.interface_grid.size())
-      , radial(cells, n)
-      , circumferential(cells, n)
-      , axial(cells, n)
+      , rows(Eigen::Map<const RowMatrix>(ring.interface_displacement.data(), 3 * cells, n))
+      , block_position(cells)
+      , block_velocity(cells)
     {
-      for (std::size_t c = 0; c < cells; ++c)
-        for (std::size_t j = 0; j < n; ++j)
-          {
-            radial(c, j)          = ring.interface_displacement[(c * 3 + 0) * n + j];
-            circumferential(c, j) = ring.interface_displacement[(c * 3 + 1) * n + j];
-            axial(c, j)           = ring.interface_displacement[(c * 3 + 2) * n + j];
-          }
       for (auto *field : {&tau_x, &tau_y, &u_t, &u_z, &pressure, &trial_tau_x, &trial_tau_y, &trial_pressure})
         field->assign(cells, 0.0);
       loaded.assign(cells, 0);
@@ -91,102 +102,111 @@ namespace fretsim::coupling
     void evaluate(const double *q_data, const double *v_data, const ForceOutput &out)
     {
       const Eigen::Map<const VectorXd> q(q_data, n), v(v_data, n);
-      const VectorXd u_r = radial * q, u_r_rate = radial * v;
-      const double   k_n = settings.normal_stiffness, c_n = k_n * settings.normal_damping_time;
-      const double   k_t = settings.tangential_stiffness, mu = settings.friction_coefficient;
-      VectorXd       t_r = VectorXd::Zero(cells), t_theta = VectorXd::Zero(cells), t_z = VectorXd::Zero(cells);
-      const bool     jacobian = out.by_position != nullptr;
-      std::vector<std::size_t> active;
-      std::vector<Eigen::Matrix3d> by_position, by_velocity;
-      for (std::size_t c = 0; c < cells; ++c)
-        {
-          const double penetration = settings.radial_interference + u_r[c];
-          double       p           = penetration > 0.0 ? k_n * penetration + c_n * u_r_rate[c] : 0.0;
-          const bool   damped_out  = p <= 0.0;
-          p                        = std::max(p, 0.0);
-          trial_pressure[c]        = p;
-          loaded[c]                = p > 0.0;
-          if (p <= 0.0 && tau_x[c] == 0.0 && tau_y[c] == 0.0)
-            {
-              trial_tau_x[c] = trial_tau_y[c] = 0.0;
+      Eigen::Matrix<double, Eigen::Dynamic, 2> state(n, 2);
+      state.col(0) = q;
+      state.col(1) = v;
+      const Eigen::Matrix<double, Eigen::Dynamic, 2> radial_motion = radial() * state; // u_r, u̇_r
+      const double k_n = settings.normal_stiffness, c_n = k_n * settings.normal_damping_time;
+      const double k_t = settings.tangential_stiffness, mu = settings.friction_coefficient;
+      const bool   jacobian = out.by_position != nullptr;
+      VectorXd     force    = VectorXd::Zero(n);
+#pragma omp parallel
+      {
+        VectorXd local = VectorXd::Zero(n);
+#pragma omp for schedule(static)
+        for (std::size_t c = 0; c < cells; ++c)
+          {
+            loaded[c] = 0;
+            const double penetration = settings.radial_interference + radial_motion(c, 0);
+            double       p           = penetration > 0.0 ? k_n * penetration + c_n * radial_motion(c, 1) : 0.0;
+            const bool   damped_out  = p <= 0.0;
+            p                        = std::max(p, 0.0);
+            trial_pressure[c]        = p;
+            if (p <= 0.0 && tau_x[c] == 0.0 && tau_y[c] == 0.0)
+              {
+                trial_tau_x[c] = trial_tau_y[c] = 0.0;
+                continue;
+              }
+            const auto   block = rows.middleRows(3 * c, 3);
+            const double ut = block.row(1).dot(q), uz = block.row(2).dot(q);
+            const double ds_x = -(ut - u_t[c]), ds_y = -(uz - u_z[c]);
+            const double mu_p = mu * p;
+            Eigen::Vector2d traction, by_pressure = Eigen::Vector2d::Zero();
+            Eigen::Matrix2d by_slip = Eigen::Matrix2d::Zero();
+            if (committing)
+              { // the paper's implicit Euler update over the accepted step
+                const auto next = contact::bristle_step(tau_x[c], tau_y[c], k_t, mu_p, ds_x, ds_y);
+                traction        = {next.x, next.y};
+              }
+            else if (slipping[c])
+              { // sliding on: the traction keeps its ratio to the pressure (≥ 0.9 μ) and its direction
+                by_pressure = Eigen::Vector2d(tau_x[c], tau_y[c]) / pressure[c];
+                traction    = by_pressure * p;
+              }
+            else
+              { // sticking: the bristle is a linear spring within the step, capped
+                // at the Coulomb limit (so that very stiff bristles cannot push
+                // the in-step traction far beyond what the update will accept)
+                const Eigen::Vector2d trial(tau_x[c] + k_t * ds_x, tau_y[c] + k_t * ds_y);
+                const double          length = trial.norm();
+                if (length <= mu_p)
+                  {
+                    traction = trial;
+                    by_slip  = k_t * Eigen::Matrix2d::Identity();
+                  }
+                else
+                  {
+                    const Eigen::Vector2d unit = trial / length;
+                    traction                   = mu_p * unit;
+                    by_slip     = mu_p * k_t / length * (Eigen::Matrix2d::Identity() - unit * unit.transpose());
+                    by_pressure = mu * unit;
+                  }
+              }
+            trial_tau_x[c] = traction.x();
+            trial_tau_y[c] = traction.y();
+            const Eigen::Vector3d cell_traction(-p, traction.x(), traction.y());
+            local.noalias() += cell_area * (block.transpose() * cell_traction);
+            if (!jacobian || p <= 0.0)
               continue;
-            }
-          const double ut = circumferential.row(c).dot(q), uz = axial.row(c).dot(q);
-          const double ds_x = -(ut - u_t[c]), ds_y = -(uz - u_z[c]);
-          const double mu_p = mu * p;
-          Eigen::Vector2d traction, by_pressure = Eigen::Vector2d::Zero();
-          Eigen::Matrix2d by_slip = Eigen::Matrix2d::Zero();
-          if (committing)
-            { // the paper's implicit Euler update over the accepted step
-              const auto next = contact::bristle_step(tau_x[c], tau_y[c], k_t, mu_p, ds_x, ds_y);
-              traction        = {next.x, next.y};
-            }
-          else if (slipping[c])
-            { // sliding on: the traction keeps its ratio to the pressure (≥ 0.9 μ) and its direction
-              by_pressure = Eigen::Vector2d(tau_x[c], tau_y[c]) / pressure[c];
-              traction    = by_pressure * p;
-            }
-          else
-            { // sticking: the bristle is a linear spring within the step, capped
-              // at the Coulomb limit (so that very stiff bristles cannot push
-              // the in-step traction far beyond what the update will accept)
-              const Eigen::Vector2d trial(tau_x[c] + k_t * ds_x, tau_y[c] + k_t * ds_y);
-              const double          length = trial.norm();
-              if (length <= mu_p)
-                {
-                  traction = trial;
-                  by_slip  = k_t * Eigen::Matrix2d::Identity();
-                }
-              else
-                {
-                  const Eigen::Vector2d unit = trial / length;
-                  traction                   = mu_p * unit;
-                  by_slip     = mu_p * k_t / length * (Eigen::Matrix2d::Identity() - unit * unit.transpose());
-                  by_pressure = mu * unit;
-                }
-            }
-          trial_tau_x[c] = traction.x();
-          trial_tau_y[c] = traction.y();
-          t_r[c]         = -p;
-          t_theta[c]     = traction.x();
-          t_z[c]         = traction.y();
-          if (!jacobian || p <= 0.0)
-            continue;
-          Eigen::Matrix3d position = Eigen::Matrix3d::Zero(), velocity = Eigen::Matrix3d::Zero();
-          if (!damped_out)
-            {
-              position(0, 0) = -k_n;
-              velocity(0, 0) = -c_n;
-              position.block<2, 1>(1, 0) = by_pressure * k_n;
-              velocity.block<2, 1>(1, 0) = by_pressure * c_n;
-            }
-          position.block<2, 2>(1, 1) = -by_slip; // ds = -du
-          active.push_back(c);
-          by_position.push_back(position);
-          by_velocity.push_back(velocity);
-        }
-      Eigen::Map<VectorXd> force(out.force, n);
-      force.noalias() += cell_area * (radial.transpose() * t_r);
-      force.noalias() += cell_area * (circumferential.transpose() * t_theta);
-      force.noalias() += cell_area * (axial.transpose() * t_z);
+            // d(traction)/d(u): normal part, and the bristle's dependence on
+            // the slip and, through μ p, on the penetration.
+            Eigen::Matrix3d position = Eigen::Matrix3d::Zero(), velocity = Eigen::Matrix3d::Zero();
+            if (!damped_out)
+              {
+                position(0, 0)             = -k_n;
+                velocity(0, 0)             = -c_n;
+                position.block<2, 1>(1, 0) = by_pressure * k_n;
+                velocity.block<2, 1>(1, 0) = by_pressure * c_n;
+              }
+            position.block<2, 2>(1, 1) = -by_slip; // ds = -du
+            block_position[c]          = position;
+            block_velocity[c]          = velocity;
+            loaded[c]                  = 1;
+          }
+#pragma omp critical
+        force += local;
+      }
+      Eigen::Map<VectorXd>(out.force, n) += force;
       if (!jacobian)
         return;
       // ∂f/∂q = A Σ_c G_cᵀ D_c G_c over the loaded cells, as one product of
       // the gathered rows.
+      std::vector<std::size_t> active;
+      for (std::size_t c = 0; c < cells; ++c)
+        if (loaded[c])
+          active.push_back(c);
       const std::size_t m = active.size();
-      RowMatrix         rows(3 * m, n), weighted_position(3 * m, n), weighted_velocity(3 * m, n);
+      RowMatrix         gathered(3 * m, n), weighted_position(3 * m, n), weighted_velocity(3 * m, n);
       for (std::size_t a = 0; a < m; ++a)
         {
-          const std::size_t c = active[a];
-          rows.row(3 * a)     = radial.row(c);
-          rows.row(3 * a + 1) = circumferential.row(c);
-          rows.row(3 * a + 2) = axial.row(c);
-          weighted_position.middleRows(3 * a, 3).noalias() = by_position[a] * rows.middleRows(3 * a, 3);
-          weighted_velocity.middleRows(3 * a, 3).noalias() = by_velocity[a] * rows.middleRows(3 * a, 3);
+          const std::size_t c               = active[a];
+          gathered.middleRows(3 * a, 3)     = rows.middleRows(3 * c, 3);
+          weighted_position.middleRows(3 * a, 3).noalias() = block_position[c] * rows.middleRows(3 * c, 3);
+          weighted_velocity.middleRows(3 * a, 3).noalias() = block_velocity[c] * rows.middleRows(3 * c, 3);
         }
       Eigen::Map<RowMatrix> dq(out.by_position, n, n), dv(out.by_velocity, n, n);
-      dq.noalias() += cell_area * (rows.transpose() * weighted_position);
-      dv.noalias() += cell_area * (rows.transpose() * weighted_velocity);
+      dq.noalias() += cell_area * (gathered.transpose() * weighted_position);
+      dv.noalias() += cell_area * (gathered.transpose() * weighted_velocity);
     }
   };
 
@@ -226,8 +246,8 @@ namespace fretsim::coupling
     // Every cell's tangential position, open ones too: a cell that closes
     // during the next step slips from where it was, not from zero.
     const Eigen::Map<const VectorXd> coordinates(q, impl->n);
-    Eigen::Map<VectorXd>(impl->u_t.data(), impl->cells) = impl->circumferential * coordinates;
-    Eigen::Map<VectorXd>(impl->u_z.data(), impl->cells) = impl->axial * coordinates;
+    Eigen::Map<VectorXd>(impl->u_t.data(), impl->cells) = impl->circumferential() * coordinates;
+    Eigen::Map<VectorXd>(impl->u_z.data(), impl->cells) = impl->axial() * coordinates;
   }
 
   const contact::Field &InterfaceContact::pressure() const { return impl->pressure; }

@@ -1,0 +1,557 @@
+#include "scenes/bearing_scene.h"
+
+#include "app/progress.h"
+#include "app/reduce_command.h"
+#include "app/ring_housing.h"
+#include "app/run_control.h"
+#include "coupling/cosimulation.h"
+#include "coupling/periodicity.h"
+#include "output/results_file.h"
+#include "output/summary.h"
+#include "scenes/figures.h"
+
+#include <fretsim/contact/dang_van.h>
+#include <fretsim/contact/subsurface_stress.h>
+#include <fretsim/reduction/reduced_model.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <limits>
+
+namespace fretsim::scenes
+{
+  namespace
+  {
+    using Clock = std::chrono::steady_clock;
+    double seconds_since(Clock::time_point start)
+    {
+      return std::chrono::duration<double>(Clock::now() - start).count();
+    }
+
+    app::ParameterSpec text(const std::string &path, const std::string &value, const std::string &doc)
+    {
+      app::ParameterSpec spec;
+      spec.path          = path;
+      spec.kind          = app::ParameterSpec::Kind::text;
+      spec.default_value = value;
+      spec.doc           = doc;
+      return spec;
+    }
+
+    app::ParameterSpec list(app::ParameterSpec spec)
+    {
+      spec.kind = app::ParameterSpec::Kind::real_list;
+      return spec;
+    }
+  } // namespace
+
+  struct BearingHousingScene::Settings
+  {
+    std::string                    reduction_config, model_file;
+    bool                           build_model = true;
+    std::string                    expected_hash;
+    coupling::CosimulationSettings run;
+    double                         ring_poisson_ratio = 0.3;
+    int                            samples_per_ball_pass = 40;
+    double                         ball_pass_frequency = 0.0;
+    contact::StressEvaluatorSettings stress_evaluator;
+    std::vector<double>              depth_layers;
+    double      bending_fatigue_limit = 0.0, torsion_fatigue_limit = 0.0;
+    std::string residual_stress;
+    int         warmup_cycles = 1;
+  };
+
+  std::vector<app::ParameterSpec> BearingHousingScene::parameter_specs()
+  {
+    using Spec = app::ParameterSpec;
+    return {
+      text("Model/Reduction configuration", "ring_6208_reduce.prm",
+           "The ring_housing configuration of the outer ring's Craig-Bampton model (geometry, material, mesh, "
+           "reduction), relative to this file's directory [-]."),
+      text("Model/Model file", "",
+           "The reduced model file; empty: results/<reduction configuration name>-model.h5 (where `fretsim reduce` "
+           "writes it) [-]."),
+      Spec::selection("Model/Build if missing", "true",
+                      "Build the model file with `fretsim reduce` when it is missing or was made from other inputs "
+                      "(false: stop with an error) [-].",
+                      "true|false"),
+      Spec::integer_range("Bearing/Ball count", "9", "Z: number of balls (6208: 9) [-].", 1, 100),
+      Spec::positive("Bearing/Ball diameter", "0.0127",
+                     "D_w (6208: 12.7 mm); the pitch diameter is 2 x groove bottom radius - D_w and the outer groove "
+                     "conformity groove radius / D_w, from the ring [m]."),
+      Spec::real_range("Bearing/Inner groove conformity", "0.52", "f_i = inner groove radius / D_w [-].", 0.5, 1.0,
+                       true),
+      Spec::real_range("Bearing/Radial clearance", "10e-6",
+                       "Radial internal clearance P_d (6208 normal clearance C0: 6-20 um) [m].", -1e-3, 1e-3),
+      Spec::positive("Bearing/Young's modulus", "2.08e11", "Balls and inner ring [Pa]."),
+      Spec::real_range("Bearing/Poisson ratio", "0.3", "Balls and inner ring [-].", 0.0, 0.5, true),
+      Spec::non_negative("Bearing/Contact damping", "0.1",
+                         "Hunt-Crossley coefficient alpha of the ball contacts, Q = K d^1.5 (1 + 1.5 alpha d') [s/m]."),
+      Spec::real_range("Loading/Inner ring speed", "3000", "Inner ring speed [rpm] (the outer ring is fixed).", 0,
+                       1e6),
+      Spec::real_range("Loading/Inner ring displacement x", "0", "Horizontal displacement of the inner ring [m].",
+                       -1e-3, 1e-3),
+      Spec::real_range("Loading/Inner ring displacement y", "60e-6",
+                       "Vertical (upward) displacement of the inner ring, the paper's 60 um [m].", -1e-3, 1e-3),
+      Spec::non_negative("Loading/Ramp time", "2e-3",
+                         "The displacement is applied with a smooth step over this time [s]."),
+      Spec::real_range("Loading/First ball angle", "1.5707963267948966",
+                       "Cage angle of ball 0 at t = 0, from +x towards +y (up) [rad].", -10, 10),
+      Spec::real_range("Loading/Ball pass periods", "4",
+                       "Simulated time in outer-ring ball pass periods 1/f_bp (6208 at 3000 rpm: 5.64 ms each; 3.55 "
+                       "per inner ring revolution) [-].",
+                       0.05, 1e5),
+      Spec::non_negative("Interface/Friction coefficient", "0.11", "mu between outer ring and housing [-]."),
+      Spec::real_range("Interface/Normal stiffness", "1e15",
+                       "k_n of the Winkler layer that carries the interface pressure p = k_n x penetration [Pa/m].",
+                       1e9, 1e21),
+      Spec::real_range("Interface/Tangential stiffness", "1e15", "Bristle stiffness k_t (paper eq. 4) [Pa/m].",
+                       1e9, 1e21),
+      Spec::non_negative("Interface/Damping time", "1e-6",
+                         "Normal damping of the layer, c_n = k_n x this: damps the ring's bounce in the housing [s]."),
+      Spec::real_range("Interface/Radial interference", "0",
+                       "Ring outer radius minus housing bore radius: > 0 interference fit, < 0 clearance, 0 "
+                       "line-to-line (the paper: only the loaded half carries pressure) [m].",
+                       -1e-3, 1e-3),
+      Spec::real_range("Ring/Damping ratio", "0.02",
+                       "Stiffness-proportional damping: this ratio at the lowest elastic frequency [-].", 0.0, 10.0),
+      Spec::integer_range("Integrator/Order", "3", "Order of ARKODE's diagonally implicit Runge-Kutta method [-].", 2,
+                          5),
+      Spec::real_range("Integrator/Relative tolerance", "1e-4", "ARKODE relative tolerance [-].", 1e-12, 1e-1),
+      Spec::real_range("Integrator/Displacement tolerance", "1e-11",
+                       "Absolute tolerance as a displacement of the interface or raceway [m].", 1e-18, 1e-6),
+      Spec::non_negative("Integrator/Maximum step", "0", "Largest step; 0: only the output interval bounds it [s]."),
+      Spec::integer_range("Integrator/Maximum steps per output", "20000",
+                          "The run stops with a message when one output interval needs more steps [-].", 10,
+                          100000000),
+      Spec::integer_range("Integrator/Maximum Newton iterations", "3",
+                          "Newton iterations per stage before the step is cut [-].", 1, 100),
+      Spec::integer_range("Output/Samples per ball pass", "40",
+                          "Output times (fields, stresses, Dang Van steps) per ball pass period [-].", 4, 10000),
+      Spec::selection("Stresses/Evaluator", "fft",
+                      "Subsurface stresses of the interface tractions on the half-space: fft (DC-FFT), mlmi, direct.",
+                      "fft|mlmi|direct"),
+      list(Spec::non_negative("Stresses/Depth layers", "0, 1e-4, 5e-4",
+                              "Depths below the ring's outer surface of the stress and risk layers [m].")),
+      Spec::positive("Dang Van/Bending fatigue limit", "690e6", "f-1 of the ring steel [Pa]."),
+      Spec::positive("Dang Van/Torsion fatigue limit", "428e6", "t-1 of the ring steel [Pa]."),
+      Spec::selection("Dang Van/Residual stress", "last_cycle_mean",
+                      "Centre of the deviatoric path per ball pass cycle: running_mean (paper eq. 5), "
+                      "last_cycle_mean, hypersphere.",
+                      "running_mean|last_cycle_mean|hypersphere"),
+      Spec::integer_range("Dang Van/Warm-up cycles", "1",
+                          "Ball pass cycles (the ramp) before D_max accumulates [-].", 0, 100000),
+      Spec::integer_range("Compare/Instants", "4",
+                          "`fretsim compare`: instants of the last ball pass re-solved with the full FE model [-].", 1,
+                          1000),
+      list(Spec::real_range("Compare/Fixed-interface modes", "10, 20, 40",
+                            "`fretsim compare`: fixed-interface mode counts m of the truncated models [-].", 0, 5000)),
+      list(Spec::real_range("Compare/Characteristic constraint modes", "40, 80, 120",
+                            "`fretsim compare`: characteristic constraint mode counts n_cc of the truncated models "
+                            "[-].",
+                            1, 5000)),
+      text("Compare/Results file", "",
+           "`fretsim compare`: the run to compare; empty: results/<this file's name>/results.h5 [-]."),
+    };
+  }
+
+  BearingHousingScene::BearingHousingScene(app::SceneParameters p)
+    : parameters(std::move(p))
+    , settings(std::make_unique<Settings>())
+  {
+    auto      &s    = *settings;
+    const auto &par = parameters;
+    namespace fs    = std::filesystem;
+    s.reduction_config =
+      (fs::path(par.file()).parent_path() / par.get("Model/Reduction configuration")).lexically_normal().string();
+    if (!fs::exists(s.reduction_config))
+      par.reject("Model/Reduction configuration", "no file '" + s.reduction_config + "'");
+    s.model_file = par.get("Model/Model file");
+    if (s.model_file.empty())
+      s.model_file = (fs::path("results") / (fs::path(s.reduction_config).stem().string() + "-model.h5")).string();
+    s.build_model = par.get_bool("Model/Build if missing");
+
+    // The ring's geometry and material come from the reduction configuration.
+    const auto ring_parameters = app::read_ring_housing_parameters(s.reduction_config, {});
+    const auto body            = app::read_ring_housing_request(ring_parameters);
+    s.expected_hash            = app::reduce_input_hash(s.reduction_config);
+    if (!body.ring.has_groove())
+      par.reject("Model/Reduction configuration", "the ring in '" + s.reduction_config +
+                                                    "' has no raceway groove; a ball bearing needs one");
+
+    auto &b                   = s.run.bearing;
+    b.ball_count              = static_cast<unsigned int>(par.get_integer("Bearing/Ball count"));
+    b.ball_diameter           = par.get_double("Bearing/Ball diameter");
+    b.pitch_diameter          = 2.0 * body.ring.groove_bottom_radius - b.ball_diameter;
+    b.outer_groove_conformity = body.ring.groove_radius / b.ball_diameter;
+    b.inner_groove_conformity = par.get_double("Bearing/Inner groove conformity");
+    b.radial_clearance        = par.get_double("Bearing/Radial clearance");
+    if (!(b.outer_groove_conformity > 0.5))
+      par.reject("Bearing/Ball diameter", "the ring's groove radius must exceed half the ball diameter");
+    if (!(b.pitch_diameter > b.ball_diameter))
+      par.reject("Bearing/Ball diameter", "too large for the ring's groove bottom radius");
+    const auto  &ring_material = body.materials.begin()->second;
+    s.ring_poisson_ratio       = ring_material.poisson_ratio;
+    const double ball_modulus  = par.get_double("Bearing/Young's modulus");
+    const double ball_poisson  = par.get_double("Bearing/Poisson ratio");
+    const double contact_modulus =
+      1.0 / ((1.0 - ring_material.poisson_ratio * ring_material.poisson_ratio) / ring_material.youngs_modulus +
+             (1.0 - ball_poisson * ball_poisson) / ball_modulus);
+    try
+      {
+        s.run.ball_stiffness = coupling::ball_contact_stiffness(b, contact_modulus).combined;
+      }
+    catch (const std::invalid_argument &error)
+      {
+        par.reject("Bearing/Ball diameter", error.what());
+      }
+    s.run.ball_damping = par.get_double("Bearing/Contact damping");
+
+    s.run.inner_ring_speed     = par.get_double("Loading/Inner ring speed") * 2.0 * M_PI / 60.0;
+    s.run.inner_displacement_x = par.get_double("Loading/Inner ring displacement x");
+    s.run.inner_displacement_y = par.get_double("Loading/Inner ring displacement y");
+    s.run.ramp_time            = par.get_double("Loading/Ramp time");
+    s.run.first_ball_angle     = par.get_double("Loading/First ball angle");
+    if (!(s.run.inner_ring_speed > 0.0))
+      par.reject("Loading/Inner ring speed", "must be > 0: the balls must pass");
+    s.ball_pass_frequency      = coupling::outer_ball_pass_frequency(b, s.run.inner_ring_speed);
+    s.samples_per_ball_pass    = static_cast<int>(par.get_integer("Output/Samples per ball pass"));
+    s.run.output_interval      = 1.0 / (s.ball_pass_frequency * s.samples_per_ball_pass);
+    s.run.duration = std::round(par.get_double("Loading/Ball pass periods") * s.samples_per_ball_pass) * s.run.output_interval;
+
+    auto &interface                = s.run.interface;
+    interface.friction_coefficient = par.get_double("Interface/Friction coefficient");
+    interface.normal_stiffness     = par.get_double("Interface/Normal stiffness");
+    interface.tangential_stiffness = par.get_double("Interface/Tangential stiffness");
+    interface.normal_damping_time  = par.get_double("Interface/Damping time");
+    interface.radial_interference  = par.get_double("Interface/Radial interference");
+    s.run.damping_ratio            = par.get_double("Ring/Damping ratio");
+
+    auto &integrator                  = s.run.integrator;
+    integrator.order                  = static_cast<int>(par.get_integer("Integrator/Order"));
+    integrator.relative_tolerance     = par.get_double("Integrator/Relative tolerance");
+    integrator.displacement_tolerance = par.get_double("Integrator/Displacement tolerance");
+    integrator.maximum_step           = par.get_double("Integrator/Maximum step");
+    integrator.maximum_steps          = par.get_integer("Integrator/Maximum steps per output");
+    integrator.maximum_newton_iterations = static_cast<int>(par.get_integer("Integrator/Maximum Newton iterations"));
+
+    s.stress_evaluator.method = par.get("Stresses/Evaluator");
+    s.depth_layers            = par.get_double_list("Stresses/Depth layers");
+    if (s.depth_layers.empty())
+      par.reject("Stresses/Depth layers", "expected at least one depth z >= 0 [m]");
+    s.bending_fatigue_limit = par.get_double("Dang Van/Bending fatigue limit");
+    s.torsion_fatigue_limit = par.get_double("Dang Van/Torsion fatigue limit");
+    try
+      {
+        contact::DangVanConstants::from_fatigue_limits(s.bending_fatigue_limit, s.torsion_fatigue_limit);
+      }
+    catch (const std::invalid_argument &error)
+      {
+        par.reject("Dang Van/Torsion fatigue limit", error.what());
+      }
+    s.residual_stress = par.get("Dang Van/Residual stress");
+    s.warmup_cycles   = static_cast<int>(par.get_integer("Dang Van/Warm-up cycles"));
+  }
+
+  BearingHousingScene::~BearingHousingScene() = default;
+
+  namespace
+  {
+    /// The co-simulation's view of a model file.
+    coupling::ReducedRing reduced_ring(const reduction::ReducedModel &model)
+    {
+      coupling::ReducedRing ring;
+      ring.n         = model.matrices.size();
+      ring.mass      = model.matrices.mass;
+      ring.stiffness = model.matrices.stiffness;
+      for (const double f : model.free_frequencies_hz)
+        if (f >= 1.0)
+          {
+            ring.lowest_elastic_frequency_hz = f;
+            break;
+          }
+      const auto &g               = model.interface_grid.grid;
+      ring.interface_radius       = g.radius;
+      ring.interface_grid         = {g.nx, g.ny, g.hx, g.hy, g.x_min, g.y_min};
+      ring.interface_displacement = model.interface_grid.displacement;
+      ring.raceway_angles         = model.raceway.angles.size();
+      ring.raceway_approach       = model.raceway.approach;
+      return ring;
+    }
+  } // namespace
+
+  RunReport BearingHousingScene::run(const RunOptions &options)
+  {
+    const auto &s         = *settings;
+    const auto  run_start = Clock::now();
+    RunReport   report;
+    namespace fs = std::filesystem;
+
+    // 1. The reduced model: read it, or build it when missing or stale.
+    reduction::ReducedModel model;
+    bool                    built = false;
+    try
+      {
+        model = reduction::read_model_file(s.model_file, s.expected_hash);
+      }
+    catch (const reduction::ModelFileError &error)
+      {
+        if (!s.build_model)
+          parameters.reject("Model/Model file", error.what());
+        std::cerr << "bearing_housing: " << error.what() << "\n  building it with `fretsim reduce "
+                  << s.reduction_config << " -o " << s.model_file << "` (about 2 minutes for the 6208 ring)\n";
+        app::RingHousingCommandOptions reduce;
+        reduce.config_file = s.reduction_config;
+        reduce.output      = s.model_file;
+        reduce.overrides   = {{"Reduction/Compare with full FE", "false"}};
+        reduce.progress    = options.progress;
+        reduce.plots       = false;
+        app::run_reduce_command(reduce, std::cerr);
+        model = reduction::read_model_file(s.model_file, s.expected_hash);
+        built = true;
+      }
+    const double model_seconds = seconds_since(run_start);
+    const auto   ring          = reduced_ring(model);
+    try
+      {
+        ring.check();
+      }
+    catch (const std::invalid_argument &error)
+      {
+        parameters.reject("Model/Model file", std::string(error.what()) +
+                                                " (rebuild it with `fretsim reduce`: it needs an interface grid and "
+                                                "Reduction/Raceway ball positions > 0)");
+      }
+    const auto &grid = ring.interface_grid;
+
+    // 2. Stages that can fail on the model's data, before anything is written.
+    std::unique_ptr<contact::SubsurfaceStress> stresses;
+    try
+      {
+        stresses = contact::make_subsurface_stress(grid, s.depth_layers, s.ring_poisson_ratio, s.stress_evaluator);
+      }
+    catch (const std::invalid_argument &error)
+      {
+        parameters.reject("Stresses/Evaluator", error.what());
+      }
+    coupling::BearingCosimulation simulation(ring, s.run);
+    const std::size_t             n_layers = s.depth_layers.size(), cells = grid.size();
+    contact::DangVanSettings      dang_van;
+    dang_van.centre          = contact::parse_residual_stress_centre(s.residual_stress);
+    dang_van.steps_per_cycle = s.samples_per_ball_pass;
+    dang_van.warmup_cycles   = s.warmup_cycles;
+    contact::DangVanField risk(n_layers * cells,
+                               contact::DangVanConstants::from_fatigue_limits(s.bending_fatigue_limit,
+                                                                              s.torsion_fatigue_limit),
+                               dang_van);
+
+    // 3. Output.
+    fs::create_directories(options.output_directory);
+    report.results_file = (fs::path(options.output_directory) / "results.h5").string();
+    report.summary_file = (fs::path(options.output_directory) / "summary.json").string();
+    auto results_owner =
+      std::make_unique<output::ResultsFile>(report.results_file, "bearing_housing", parameters.to_prm());
+    auto &results = *results_owner;
+    {
+      std::vector<double> x(grid.nx), y(grid.ny);
+      for (int i = 0; i < grid.nx; ++i)
+        x[i] = grid.x(i);
+      for (int j = 0; j < grid.ny; ++j)
+        y[j] = grid.y(j);
+      results.write_grid(x, y, s.depth_layers);
+    }
+    results.set_root_attribute("interface_radius_m", ring.interface_radius);
+    results.set_root_attribute("ball_pass_frequency_hz", s.ball_pass_frequency);
+    results.set_root_attribute("cage_frequency_hz", coupling::cage_speed(s.run.bearing, s.run.inner_ring_speed) / (2.0 * M_PI));
+    results.set_root_attribute("ball_count", static_cast<double>(s.run.bearing.ball_count));
+    results.set_root_attribute("model_file", s.model_file);
+    results.set_root_attribute("model_input_hash", model.input_hash);
+    results.set_root_attribute("stress_components",
+                               "xx (circumferential), yy (axial), zz (radial, depth into the ring), yz, xz, xy; "
+                               "tension positive, in the outer ring");
+    const std::vector<std::pair<std::string, std::string>> series{
+      {"interface_force_x", "N"}, {"interface_force_y", "N"}, {"ball_load_total_x", "N"}, {"ball_load_total_y", "N"},
+      {"inner_ring_displacement_y", "m"}, {"contact_fraction", "1"}, {"slip_fraction", "1"}, {"risk_max_so_far", "1"}};
+    for (const auto &[name, unit] : series)
+      results.declare_series(name, unit);
+    const std::vector<std::size_t> field{static_cast<std::size_t>(grid.ny), static_cast<std::size_t>(grid.nx)};
+    results.declare_field("pressure", "Pa", field);
+    results.declare_field("shear_x", "Pa", field);
+    results.declare_field("shear_y", "Pa", field);
+    results.declare_field("effective_friction", "1", field);
+    results.declare_field("risk", "1", {n_layers, field[0], field[1]});
+    results.declare_field("ball_angle", "rad", {s.run.bearing.ball_count});
+    results.declare_field("ball_load", "N", {s.run.bearing.ball_count});
+    results.declare_field("modal_coordinates", "1", {ring.n});
+
+    // 4. The run: at every output time stresses, Dang Van, a snapshot.
+    double                           stress_seconds = 0.0, dang_van_seconds = 0.0, output_seconds = 0.0;
+    contact::StressField             stress;
+    std::vector<std::vector<double>> pressure_history;
+    std::vector<double>              top_pressure, times;
+    double                           lower_half_pressure = 0.0, peak_pressure = 0.0, peak_ball_load = 0.0;
+    std::size_t                      top_cell = grid.index(grid.nx / 4, grid.ny / 2); // θ = 90°: the top
+    const long outputs = std::lround(s.run.duration / s.run.output_interval);
+    app::Progress progress("bearing_housing", outputs + 1, options.progress);
+    long          done       = 0;
+    const auto    integrate_start = Clock::now();
+    const auto observe = [&](const coupling::Snapshot &snap) {
+      auto start = Clock::now();
+      stresses->evaluate(*snap.pressure, *snap.shear_x, *snap.shear_y, stress);
+      stress_seconds += seconds_since(start);
+      start = Clock::now();
+      risk.add_step(stress);
+      dang_van_seconds += seconds_since(start);
+      start = Clock::now();
+      std::vector<double> risk_now(risk.risk().begin(), risk.risk().end());
+      double so_far = 0.0;
+      for (const double d : risk.risk_max())
+        so_far = std::max(so_far, d);
+      results.append_series_row({snap.interface_force_x, snap.interface_force_y, snap.ball_force_x, snap.ball_force_y,
+                                 snap.inner_displacement_y, snap.contact_fraction, snap.slip_fraction, so_far});
+      results.append_snapshot(snap.time, {snap.pressure, snap.shear_x, snap.shear_y, &snap.effective_friction,
+                                          &risk_now, &snap.ball_angles, &snap.ball_loads, &snap.q});
+      results.flush();
+      for (int j = 0; j < grid.ny; ++j)
+        for (int i = grid.nx / 2 + 1; i < grid.nx; ++i) // θ in (180°, 360°): the unloaded half
+          lower_half_pressure = std::max(lower_half_pressure, (*snap.pressure)[grid.index(i, j)]);
+      for (const double p : *snap.pressure)
+        peak_pressure = std::max(peak_pressure, p);
+      for (const double q : snap.ball_loads)
+        peak_ball_load = std::max(peak_ball_load, q);
+      pressure_history.push_back(*snap.pressure);
+      if (pressure_history.size() > static_cast<std::size_t>(2 * s.samples_per_ball_pass))
+        pressure_history.erase(pressure_history.begin());
+      top_pressure.push_back((*snap.pressure)[top_cell]);
+      times.push_back(snap.time);
+      output_seconds += seconds_since(start);
+      progress.update(++done, snap.time);
+      return !app::interrupt_requested();
+    };
+    std::string failure;
+    try
+      {
+        report.completed = simulation.run(observe);
+      }
+    catch (const std::runtime_error &error)
+      {
+        failure          = error.what();
+        report.completed = false;
+      }
+    progress.finish();
+    const double run_seconds = seconds_since(integrate_start);
+    const auto  &stats       = simulation.statistics();
+
+    // 5. Risk maximum, ball pass frequency, periodicity.
+    const auto  &risk_max = risk.risk_max();
+    std::size_t  worst    = 0;
+    for (std::size_t k = 0; k < risk_max.size(); ++k)
+      if (risk_max[k] > risk_max[worst])
+        worst = k;
+    const std::size_t worst_layer = worst / cells, worst_cell = worst % cells;
+    const int         worst_i = static_cast<int>(worst_cell % grid.nx), worst_j = static_cast<int>(worst_cell / grid.nx);
+    const double      nan     = std::numeric_limits<double>::quiet_NaN();
+    double            measured_frequency = nan, correlation = nan;
+    {
+      // The settled part: after the ramp and one more ball pass.
+      const double settle = s.run.ramp_time + 1.0 / s.ball_pass_frequency;
+      std::vector<double> settled;
+      for (std::size_t k = 0; k < times.size(); ++k)
+        if (times[k] >= settle)
+          settled.push_back(top_pressure[k]);
+      try
+        {
+          const double period = coupling::autocorrelation_period(
+            settled, s.run.output_interval, 0.6 / s.ball_pass_frequency, 1.4 / s.ball_pass_frequency, &correlation);
+          measured_frequency = 1.0 / period;
+        }
+      catch (const std::invalid_argument &)
+        { // too short a run or a constant signal: no measurement
+        }
+    }
+    const double periodicity = coupling::periodicity_error(pressure_history, s.run.output_interval,
+                                                           1.0 / s.ball_pass_frequency);
+
+    if (!risk_max.empty())
+      results.write_dataset("/fields/risk_max", "1", {n_layers, static_cast<std::size_t>(grid.ny),
+                                                      static_cast<std::size_t>(grid.nx)},
+                            risk_max);
+    results.set_root_attribute("status", report.completed ? "complete" : (failure.empty() ? "interrupted" : "failed"));
+    results.flush();
+    auto output_start = Clock::now();
+    results.write_xdmf((fs::path(options.output_directory) / "results.xdmf").string());
+    results_owner.reset();
+    output_seconds += seconds_since(output_start);
+
+    output::Summary summary;
+    summary.set("scene", std::string("bearing_housing"));
+    summary.set("status", std::string(report.completed ? "complete" : (failure.empty() ? "interrupted" : "failed")));
+    if (!failure.empty())
+      summary.set("error", failure);
+    summary.set("model_file", s.model_file);
+    summary.set("model_built", built);
+    summary.set("reduced_coordinates", static_cast<long long>(ring.n));
+    summary.set("interface_grid_cells", static_cast<long long>(cells));
+    summary.set("ball_count", static_cast<long long>(s.run.bearing.ball_count));
+    summary.set("pitch_diameter_m", s.run.bearing.pitch_diameter);
+    summary.set("ball_contact_stiffness_N_per_m1.5", s.run.ball_stiffness);
+    summary.set("simulated_time_s", times.empty() ? 0.0 : times.back());
+    summary.set("ball_pass_frequency_hz", s.ball_pass_frequency);
+    summary.set("ball_pass_frequency_measured_hz", measured_frequency);
+    summary.set("ball_pass_frequency_error", measured_frequency / s.ball_pass_frequency - 1.0);
+    summary.set("ball_pass_autocorrelation", correlation);
+    summary.set("periodicity_error", periodicity);
+    summary.set("peak_pressure_Pa", peak_pressure);
+    summary.set("peak_ball_load_N", peak_ball_load);
+    summary.set("lower_half_peak_pressure_Pa", lower_half_pressure);
+    summary.set("risk_max", risk_max.empty() ? nan : risk_max[worst]);
+    summary.set("risk_max_theta_deg", grid.x(worst_i) / ring.interface_radius * 180.0 / M_PI);
+    summary.set("risk_max_axial_m", grid.y(worst_j));
+    summary.set("risk_max_depth_m", s.depth_layers[worst_layer]);
+    summary.set("risk_max_time_s", risk.risk_max_step().empty() || risk.risk_max_step()[worst] < 0
+                                     ? nan
+                                     : risk.risk_max_step()[worst] * s.run.output_interval);
+    summary.set("risk_infinite_points", static_cast<long long>(risk.infinite_risk_max_count()));
+    summary.set("dang_van_cycles", static_cast<long long>(risk.complete_cycles()));
+    output::Summary integrator;
+    integrator.set("method", std::string("ARKODE ARKStep DIRK order ") + std::to_string(s.run.integrator.order));
+    integrator.set("steps", static_cast<long long>(stats.steps));
+    integrator.set("rhs_evaluations", static_cast<long long>(stats.rhs_evaluations));
+    integrator.set("newton_iterations", static_cast<long long>(stats.newton_iterations));
+    integrator.set("newton_convergence_failures", static_cast<long long>(stats.newton_failures));
+    integrator.set("error_test_failures", static_cast<long long>(stats.error_test_failures));
+    integrator.set("jacobian_evaluations", static_cast<long long>(stats.jacobian_evaluations));
+    integrator.set("linear_solver_setups", static_cast<long long>(stats.linear_setups));
+    integrator.set("smallest_step_s", stats.smallest_step);
+    integrator.set("largest_step_s", stats.largest_step);
+    summary.set_object("integrator", integrator);
+    output::Summary stage_times;
+    stage_times.set("model", model_seconds);
+    stage_times.set("integrator", stats.integrator_seconds);
+    stage_times.set("contact", stats.contact_seconds);
+    stage_times.set("stresses", stress_seconds);
+    stage_times.set("dang_van", dang_van_seconds);
+    stage_times.set("output", output_seconds);
+    stage_times.set("run", run_seconds);
+    summary.set_object("stage_times_s", stage_times);
+    const double revolution = 2.0 * M_PI / s.run.inner_ring_speed;
+    summary.set("seconds_per_inner_ring_revolution",
+                times.empty() || times.back() <= 0.0 ? nan : run_seconds * revolution / times.back());
+    summary.set("wall_time_s", seconds_since(run_start));
+    summary.write(report.summary_file);
+
+    report.numbers = {{"risk_max", risk_max.empty() ? nan : risk_max[worst]},
+                      {"wall_time_s", seconds_since(run_start)},
+                      {"ball_pass_frequency_error", measured_frequency / s.ball_pass_frequency - 1.0},
+                      {"peak_pressure_Pa", peak_pressure},
+                      {"lower_half_peak_pressure_Pa", lower_half_pressure}};
+    if (options.plots)
+      report.figures = run_plot_script("plot_bearing_housing.py", {options.output_directory});
+    if (!failure.empty())
+      throw std::runtime_error(failure + " (results.h5 holds the steps done so far)");
+    return report;
+  }
+} // namespace fretsim::scenes

@@ -1,0 +1,34 @@
+#pragma once
+// The paper's §5 case (DESIGN.md §5 `paper_dgbb_housing`, issue 8): a deep
+// groove ball bearing whose flexible outer ring (the Craig–Bampton model of
+// `fretsim reduce`) sits in a rigid ring-shaped housing; the inner ring is
+// displaced and rotates, the cage-guided balls load the raceway, and the
+// interface pressure, bristle traction, subsurface stresses and Dang Van risk
+// are followed in time. Builds no mesh unless the model file must be made.
+#include "scenes/scene.h"
+
+#include <memory>
+
+namespace fretsim::scenes
+{
+  class BearingHousingScene : public Scene
+  {
+  public:
+    static std::vector<app::ParameterSpec> parameter_specs();
+
+    /// Reads and cross-checks the parameters (and the reduction configuration
+    /// they name); throws app::InputError and touches nothing on disk.
+    explicit BearingHousingScene(app::SceneParameters parameters);
+    ~BearingHousingScene() override;
+
+    /// Loads (or builds) the reduced model, integrates, evaluates stresses and
+    /// the Dang Van risk at every output time; results.h5 grows as it goes,
+    /// summary.json and figures at the end.
+    RunReport run(const RunOptions &options) override;
+
+  private:
+    struct Settings;
+    app::SceneParameters      parameters;
+    std::unique_ptr<Settings> settings;
+  };
+} // namespace fretsim::scenes

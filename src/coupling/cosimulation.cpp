@@ -324,6 +324,7 @@ namespace fretsim::coupling
     check(ARKStepSetJacFn(sun.arkode, arkode_jacobian), "ARKStepSetJacFn");
     check(ARKStepSetOrder(sun.arkode, s.integrator.order), "ARKStepSetOrder");
     check(ARKStepSetMaxNonlinIters(sun.arkode, s.integrator.maximum_newton_iterations), "ARKStepSetMaxNonlinIters");
+
     if (s.integrator.maximum_step > 0.0)
       check(ARKStepSetMaxStep(sun.arkode, s.integrator.maximum_step), "ARKStepSetMaxStep");
     if (s.integrator.initial_step > 0.0)
@@ -354,6 +355,26 @@ namespace fretsim::coupling
       snap.inner_displacement_y = e[1];
       return observe(snap);
     };
+
+    // The integrator's counters, read however the run ends.
+    struct Counters
+    {
+      void *arkode;
+      IntegratorStatistics &stats;
+      ~Counters()
+      {
+        long nfe = 0, nfi = 0;
+        ARKStepGetNumSteps(arkode, &stats.steps);
+        ARKStepGetNumRhsEvals(arkode, &nfe, &nfi);
+        stats.rhs_evaluations = nfi;
+        ARKStepGetNumNonlinSolvIters(arkode, &stats.newton_iterations);
+        ARKStepGetNumNonlinSolvConvFails(arkode, &stats.newton_failures);
+        ARKStepGetNumErrTestFails(arkode, &stats.error_test_failures);
+        ARKStepGetNumJacEvals(arkode, &stats.jacobian_evaluations);
+        ARKStepGetNumLinSolvSetups(arkode, &stats.linear_setups);
+        ARKStepGetLastStep(arkode, &stats.last_step);
+      }
+    } counters{sun.arkode, d.stats};
 
     d.interface.accept(y, y + n);
     if (!emit(0.0))
@@ -402,16 +423,6 @@ namespace fretsim::coupling
         if (!emit(t_out))
           return false;
       }
-    long nfe = 0, nfi = 0;
-    ARKStepGetNumSteps(sun.arkode, &d.stats.steps);
-    ARKStepGetNumRhsEvals(sun.arkode, &nfe, &nfi);
-    d.stats.rhs_evaluations = nfi;
-    ARKStepGetNumNonlinSolvIters(sun.arkode, &d.stats.newton_iterations);
-    ARKStepGetNumNonlinSolvConvFails(sun.arkode, &d.stats.newton_failures);
-    ARKStepGetNumErrTestFails(sun.arkode, &d.stats.error_test_failures);
-    ARKStepGetNumJacEvals(sun.arkode, &d.stats.jacobian_evaluations);
-    ARKStepGetNumLinSolvSetups(sun.arkode, &d.stats.linear_setups);
-    ARKStepGetLastStep(sun.arkode, &d.stats.last_step);
     return true;
   }
 } // namespace fretsim::coupling

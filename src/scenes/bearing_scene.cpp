@@ -456,8 +456,9 @@ namespace fretsim::scenes
     const double      nan     = std::numeric_limits<double>::quiet_NaN();
     double            measured_frequency = nan, correlation = nan;
     {
-      // The settled part: after the ramp and one more ball pass.
-      const double settle = s.run.ramp_time + 1.0 / s.ball_pass_frequency;
+      // The settled part: a quarter ball pass after the ramp. The estimate
+      // needs 2.8 ball passes of it (twice the longest lag searched).
+      const double settle = s.run.ramp_time + 0.25 / s.ball_pass_frequency;
       std::vector<double> settled;
       for (std::size_t k = 0; k < times.size(); ++k)
         if (times[k] >= settle)

@@ -1,6 +1,7 @@
 #include "app/cli.h"
 
 #include "app/build_info.h"
+#include "app/compare_command.h"
 #include "app/compare_traction.h"
 #include "app/fe_command.h"
 #include "app/mesh_command.h"
@@ -151,6 +152,18 @@ namespace fretsim::app
                      "Error against run time instead: reduce for every (m, n_cc) of the Reduction/Study lists and "
                      "compare with the full FE model (table, CSV, PNG; -o is then a directory)");
     reduce->add_flag("-q,--quiet", quiet, "No progress display");
+    CompareOptions full_fe_check;
+    auto *compare_full = app.add_subcommand(
+      "compare", "Check a bearing_housing run's reduced ring against the full FE model: the same ball loads and "
+                 "interface tractions at N instants, errors of the recovered displacements and stresses, run times, "
+                 "and the error against the reduced model's size (table, CSV, PNG)");
+    compare_full->add_option("CONFIG", full_fe_check.config_file, "Scene file (.prm or .json, Scene = bearing_housing)")
+      ->required();
+    compare_full->add_option("-o,--output", full_fe_check.output_directory,
+                             "Output directory (default: results/<config name>-compare)");
+    compare_full->add_flag("--no-plots", no_plots, "Do not write the PNG figure");
+    compare_full->add_flag("-q,--quiet", quiet, "No progress display");
+    compare_full->add_option("--set", settings, "Override a parameter, e.g. --set 'Compare/Instants=8'");
     auto *bench = app.add_subcommand("bench", "Error against run time of the numerical approximations");
     bench->require_subcommand(1);
     StressBenchmarkOptions stress_bench;
@@ -212,6 +225,16 @@ namespace fretsim::app
                   std::cout << (file.size() > 4 && file.substr(file.size() - 4) == ".png" ? "figure:   " : "written:  ")
                             << std::filesystem::absolute(file).string() << "\n";
               }
+            return exit_ok;
+          }
+        if (*compare_full)
+          {
+            full_fe_check.overrides = parse_overrides(settings);
+            full_fe_check.plots     = !no_plots;
+            full_fe_check.progress  = !quiet;
+            for (const auto &file : run_compare_command(full_fe_check, std::cout))
+              std::cout << (file.size() > 4 && file.substr(file.size() - 4) == ".png" ? "figure:   " : "table:    ")
+                        << std::filesystem::absolute(file).string() << "\n";
             return exit_ok;
           }
         if (*bench_stresses)

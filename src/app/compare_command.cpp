@@ -1,0 +1,912 @@
+#include "app/compare_command.h"
+
+#include "app/reduce_command.h"
+#include "app/ring_housing.h"
+#include "output/results_file.h"
+#include "scenes/figures.h"
+#include "scenes/scene.h"
+
+#include <fretsim/fem/parallel_environment.h>
+#include <fretsim/fem/shifted_static_solver.h>
+#include <fretsim/fem/stress_sampler.h>
+#include <fretsim/fem/surface_grid_map.h>
+#include <fretsim/fem/surface_point_map.h>
+#include <fretsim/reduction/craig_bampton.h>
+#include <fretsim/reduction/reduced_model.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <memory>
+#include <ostream>
+#include <sstream>
+#include <stdexcept>
+
+namespace fretsim::app
+{
+  namespace
+  {
+    using Clock = std::chrono::steady_clock;
+    using fem::BoundaryId;
+
+    constexpr double not_measured = std::numeric_limits<double>::quiet_NaN();
+
+    double seconds_since(const Clock::time_point start)
+    {
+      return std::chrono::duration<double>(Clock::now() - start).count();
+    }
+
+    const std::string bearing_scene = "bearing_housing";
+
+    std::vector<unsigned int> counts(const SceneParameters &p, const std::string &path)
+    {
+      std::vector<unsigned int> result;
+      for (const double value : p.get_double_list(path))
+        {
+          if (value != std::floor(value) || value < 0.0)
+            p.reject(path, "expected non-negative whole numbers, got " + std::to_string(value));
+          result.push_back(static_cast<unsigned int>(value));
+        }
+      if (result.empty())
+        p.reject(path, "is empty; give at least one count");
+      return result;
+    }
+
+    /// The run's snapshots as the results file holds them.
+    struct RunFields
+    {
+      std::vector<double> time;                          ///< [nt]
+      std::vector<double> pressure, shear_x, shear_y;    ///< [nt][ny][nx]
+      std::vector<double> ball_angle, ball_load;         ///< [nt][Z]
+      std::vector<double> modal_coordinates;             ///< [nt][n]
+      std::size_t         n_snapshots = 0, n_balls = 0, n_cells = 0, n_coordinates = 0;
+      double              ball_pass_frequency_hz = 0.0;  ///< 0 if the file has none
+    };
+
+    /// One compared instant: the loads of a snapshot.
+    struct Instant
+    {
+      std::size_t         snapshot = 0;
+      double              time     = 0.0;
+      std::vector<double> ball_angles, ball_loads; ///< balls with a load > 0
+      fem::GridTractions  tractions;               ///< on the model's grid
+      std::vector<double> run_q;                   ///< the run's modal coordinates
+    };
+
+    /// The model restricted to the coordinates of one truncation (m', n_cc'):
+    /// the sub-blocks of K_r and M_r and the matching operator columns.
+    struct Truncation
+    {
+      unsigned int        fixed_interface = 0, constraint = 0;
+      std::size_t         n = 0;
+      bool                whole_model = false;
+      std::vector<double> shifted;           ///< K_r - σ M_r, n × n
+      std::vector<double> grid_displacement; ///< [cell][3][n]
+      std::vector<double> grid_stress;       ///< [cell][6][n]
+      std::vector<double> raceway_stress;    ///< [raceway point][6][n]
+      std::vector<double> approach;          ///< [angle][n]
+      std::size_t         n_angles = 0;
+      /// Inertia relief: the first six constraint coordinates are the
+      /// rigid-body motions R; M_r R [n][6] and the factor of Rᵀ M_r R [6][6].
+      std::vector<double> mass_rigid, rigid_factor;
+    };
+
+    /// The rigid-body motions of a free body.
+    constexpr std::size_t rigid_modes = 6;
+
+    void cholesky(std::vector<double> &a, std::size_t n);
+
+    /// Rows of a row-major [items][n_full] operator, restricted to `columns`.
+    std::vector<double> restrict_columns(const std::vector<double> &op, std::size_t n_full,
+                                         const std::vector<std::size_t> &columns)
+    {
+      const std::size_t   rows = n_full == 0 ? 0 : op.size() / n_full;
+      std::vector<double> result(rows * columns.size());
+      for (std::size_t r = 0; r < rows; ++r)
+        for (std::size_t c = 0; c < columns.size(); ++c)
+          result[r * columns.size() + c] = op[r * n_full + columns[c]];
+      return result;
+    }
+
+    Truncation truncate(const reduction::ReducedModel &model, unsigned int fixed_interface, unsigned int constraint,
+                        const std::vector<std::size_t> &raceway_points, double sigma)
+    {
+      const auto       &m      = model.matrices;
+      const std::size_t n_full = m.size();
+      std::vector<std::size_t> columns;
+      for (unsigned int j = 0; j < constraint; ++j)
+        columns.push_back(j);
+      for (unsigned int j = 0; j < fixed_interface; ++j)
+        columns.push_back(m.n_constraint + j);
+      Truncation t;
+      t.fixed_interface = fixed_interface;
+      t.constraint      = constraint;
+      t.n               = columns.size();
+      t.whole_model     = fixed_interface == m.n_modal && constraint == m.n_constraint;
+      t.shifted.resize(t.n * t.n);
+      for (std::size_t a = 0; a < t.n; ++a)
+        for (std::size_t b = 0; b < t.n; ++b)
+          {
+            const std::size_t k = columns[a] * n_full + columns[b];
+            t.shifted[a * t.n + b] = m.stiffness[k] - sigma * m.mass[k];
+          }
+      t.grid_displacement = restrict_columns(model.interface_grid.displacement, n_full, columns);
+      t.grid_stress       = restrict_columns(model.interface_grid.stress, n_full, columns);
+      std::vector<double> race;
+      for (const std::size_t p : raceway_points)
+        race.insert(race.end(), model.sample_points.stress.begin() + p * 6 * n_full,
+                    model.sample_points.stress.begin() + (p + 1) * 6 * n_full);
+      t.raceway_stress = restrict_columns(race, n_full, columns);
+      t.approach       = restrict_columns(model.raceway.approach, n_full, columns);
+      t.n_angles       = model.raceway.angles.size();
+      t.mass_rigid.resize(t.n * rigid_modes);
+      t.rigid_factor.resize(rigid_modes * rigid_modes);
+      for (std::size_t a = 0; a < t.n; ++a)
+        for (std::size_t r = 0; r < rigid_modes; ++r)
+          t.mass_rigid[a * rigid_modes + r] = m.mass[columns[a] * n_full + r];
+      for (std::size_t r = 0; r < rigid_modes; ++r)
+        for (std::size_t c = 0; c < rigid_modes; ++c)
+          t.rigid_factor[r * rigid_modes + c] = m.mass[r * n_full + c];
+      cholesky(t.rigid_factor, rigid_modes);
+      return t;
+    }
+
+    /// In-place Cholesky factor (lower) of a symmetric positive definite
+    /// row-major matrix, and the solve with it.
+    void cholesky(std::vector<double> &a, std::size_t n)
+    {
+      for (std::size_t j = 0; j < n; ++j)
+        {
+          double d = a[j * n + j];
+          for (std::size_t k = 0; k < j; ++k)
+            d -= a[j * n + k] * a[j * n + k];
+          if (!(d > 0.0))
+            throw std::runtime_error("compare: K_r - sigma M_r is not positive definite (coordinate " +
+                                     std::to_string(j) + ")");
+          a[j * n + j] = std::sqrt(d);
+          for (std::size_t i = j + 1; i < n; ++i)
+            {
+              double s = a[i * n + j];
+              for (std::size_t k = 0; k < j; ++k)
+                s -= a[i * n + k] * a[j * n + k];
+              a[i * n + j] = s / a[j * n + j];
+            }
+        }
+    }
+
+    std::vector<double> cholesky_solve(const std::vector<double> &l, std::size_t n, std::vector<double> b)
+    {
+      for (std::size_t i = 0; i < n; ++i)
+        {
+          for (std::size_t k = 0; k < i; ++k)
+            b[i] -= l[i * n + k] * b[k];
+          b[i] /= l[i * n + i];
+        }
+      for (std::size_t i = n; i-- > 0;)
+        {
+          for (std::size_t k = i + 1; k < n; ++k)
+            b[i] -= l[k * n + i] * b[k];
+          b[i] /= l[i * n + i];
+        }
+      return b;
+    }
+
+    /// Inertia relief of a generalised load, g - M_r R (Rᵀ M_r R)⁻¹ Rᵀ g (Rᵀ g
+    /// is g's first six entries): the reduced counterpart of the full model's
+    /// f - M Φ Φᵀ f (fem/shifted_static_solver.h).
+    void relieve(const Truncation &t, std::vector<double> &g)
+    {
+      const std::vector<double> a = cholesky_solve(t.rigid_factor, rigid_modes, std::vector<double>(g.begin(), g.begin() + rigid_modes));
+      for (std::size_t j = 0; j < t.n; ++j)
+        for (std::size_t r = 0; r < rigid_modes; ++r)
+          g[j] -= t.mass_rigid[j * rigid_modes + r] * a[r];
+    }
+
+    /// q without its rigid-body motion: q - R (Rᵀ M_r R)⁻¹ Rᵀ M_r q
+    /// (M_r-orthogonal to every rigid motion, as the relieved solutions are).
+    void remove_rigid_motion(const Truncation &t, std::vector<double> &q)
+    {
+      std::vector<double> c(rigid_modes, 0.0);
+      for (std::size_t j = 0; j < t.n; ++j)
+        for (std::size_t r = 0; r < rigid_modes; ++r)
+          c[r] += t.mass_rigid[j * rigid_modes + r] * q[j];
+      const std::vector<double> a = cholesky_solve(t.rigid_factor, rigid_modes, c);
+      for (std::size_t r = 0; r < rigid_modes; ++r)
+        q[r] -= a[r];
+    }
+
+    /// y = A q for a row-major [rows][n] operator.
+    std::vector<double> apply(const std::vector<double> &op, std::size_t n, const std::vector<double> &q)
+    {
+      const std::size_t   rows = n == 0 ? 0 : op.size() / n;
+      std::vector<double> y(rows, 0.0);
+      for (std::size_t r = 0; r < rows; ++r)
+        {
+          const double *row = op.data() + r * n;
+          double        s   = 0.0;
+          for (std::size_t j = 0; j < n; ++j)
+            s += row[j] * q[j];
+          y[r] = s;
+        }
+      return y;
+    }
+
+    /// r(ψ) interpolated linearly between the stored positions ψ_k = 2πk/n,
+    /// with the co-simulation's weights (coupling/ring_coupling.cpp).
+    void add_ball_row(const Truncation &t, double angle, double factor, std::vector<double> &row)
+    {
+      const double spacing  = 2.0 * M_PI / static_cast<double>(t.n_angles);
+      double       position = std::fmod(angle, 2.0 * M_PI);
+      if (position < 0.0)
+        position += 2.0 * M_PI;
+      const double      scaled = position / spacing;
+      const std::size_t k0     = static_cast<std::size_t>(scaled) % t.n_angles, k1 = (k0 + 1) % t.n_angles;
+      const double      w      = scaled - std::floor(scaled);
+      for (std::size_t j = 0; j < t.n; ++j)
+        row[j] += factor * ((1.0 - w) * t.approach[k0 * t.n + j] + w * t.approach[k1 * t.n + j]);
+    }
+
+    /// What the reduced model gives at an instant.
+    struct Recovered
+    {
+      std::vector<double> q;
+      std::vector<double> displacement;   ///< [cell][3] (u_r, u_θ, u_z)
+      std::vector<double> grid_stress;    ///< [cell][6]
+      std::vector<double> raceway_stress; ///< [point][6]
+      std::vector<double> approach;       ///< r(ψ_j)·q per loaded ball [m]
+      double              work    = 0.0;  ///< gᵀq [J]
+      double              seconds = 0.0;  ///< load projection, factorisation, solve, recovery
+    };
+
+    void recover(const Truncation &t, const Instant &instant, Recovered &r)
+    {
+      r.displacement   = apply(t.grid_displacement, t.n, r.q);
+      r.grid_stress    = apply(t.grid_stress, t.n, r.q);
+      r.raceway_stress = apply(t.raceway_stress, t.n, r.q);
+      r.approach.clear();
+      std::vector<double> row(t.n);
+      for (const double angle : instant.ball_angles)
+        {
+          std::fill(row.begin(), row.end(), 0.0);
+          add_ball_row(t, angle, 1.0, row);
+          double a = 0.0;
+          for (std::size_t j = 0; j < t.n; ++j)
+            a += row[j] * r.q[j];
+          r.approach.push_back(a);
+        }
+    }
+
+    /// q = (K_r - σM_r)⁻¹ g_e, g_e the inertia-relieved
+    /// g = Σ_j Q_j r(ψ_j) + Σ_c A (HT)_cᵀ (-p, τ_x, τ_y)_c; recovered.
+    Recovered reduced_static(const Truncation &t, const Instant &instant, double cell_area)
+    {
+      Recovered  r;
+      const auto start = Clock::now();
+      std::vector<double> g(t.n, 0.0);
+      for (std::size_t b = 0; b < instant.ball_angles.size(); ++b)
+        add_ball_row(t, instant.ball_angles[b], instant.ball_loads[b], g);
+      const auto       &tr      = instant.tractions;
+      const std::size_t n_cells = tr.pressure.size();
+      for (std::size_t c = 0; c < n_cells; ++c)
+        {
+          const double traction[3] = {-tr.pressure[c] * cell_area, tr.shear_x[c] * cell_area, tr.shear_y[c] * cell_area};
+          if (traction[0] == 0.0 && traction[1] == 0.0 && traction[2] == 0.0)
+            continue;
+          for (unsigned int d = 0; d < 3; ++d)
+            {
+              const double *row = t.grid_displacement.data() + (c * 3 + d) * t.n;
+              for (std::size_t j = 0; j < t.n; ++j)
+                g[j] += traction[d] * row[j];
+            }
+        }
+      relieve(t, g);
+      std::vector<double> factor = t.shifted;
+      cholesky(factor, t.n);
+      r.q = cholesky_solve(factor, t.n, g);
+      remove_rigid_motion(t, r.q); // none in exact arithmetic; the round-off 1/|σ| amplifies
+      recover(t, instant, r);
+      r.seconds = seconds_since(start);
+      for (std::size_t j = 0; j < t.n; ++j)
+        r.work += g[j] * r.q[j];
+      return r;
+    }
+
+    /// The full FE solution at an instant, sampled where the reduced model is.
+    struct FullSolution
+    {
+      std::array<std::vector<double>, 3> displacement; ///< u_r, u_θ, u_z per cell
+      std::vector<double>                grid_stress, raceway_stress;
+      /// Raceway points away from every ball (see far_from_balls) and their stresses.
+      std::vector<std::size_t>           far_points;
+      std::vector<double>                raceway_stress_far;
+      std::vector<double>                approach; ///< fᵀu per unit ball load, per loaded ball [m]
+      double                             work          = 0.0; ///< fᵀu [J]
+      double                             solve_seconds = 0.0; ///< load assembly + solve
+    };
+
+    struct Errors
+    {
+      double u_r = not_measured, u_theta = not_measured, u_z = not_measured;
+      double grid_stress = not_measured, raceway_stress = not_measured, raceway_stress_far = not_measured;
+      double approach = not_measured, energy = not_measured;
+    };
+
+    /// max |a - b| / max |b| over the entries (strided views), NaN if empty.
+    double relative_max_error(const std::vector<double> &a, std::size_t offset, std::size_t stride,
+                              const std::vector<double> &b)
+    {
+      if (b.empty())
+        return not_measured;
+      double difference = 0.0, scale = 0.0;
+      for (std::size_t k = 0; k < b.size(); ++k)
+        {
+          difference = std::max(difference, std::abs(a[offset + k * stride] - b[k]));
+          scale      = std::max(scale, std::abs(b[k]));
+        }
+      return scale > 0.0 ? difference / scale : difference;
+    }
+
+    Errors measure(const Recovered &r, const FullSolution &f, bool galerkin)
+    {
+      Errors e;
+      e.u_r            = relative_max_error(r.displacement, 0, 3, f.displacement[0]);
+      e.u_theta        = relative_max_error(r.displacement, 1, 3, f.displacement[1]);
+      e.u_z            = relative_max_error(r.displacement, 2, 3, f.displacement[2]);
+      e.grid_stress    = relative_max_error(r.grid_stress, 0, 1, f.grid_stress);
+      e.raceway_stress = relative_max_error(r.raceway_stress, 0, 1, f.raceway_stress);
+      std::vector<double> far;
+      for (const std::size_t p : f.far_points)
+        far.insert(far.end(), r.raceway_stress.begin() + 6 * p, r.raceway_stress.begin() + 6 * (p + 1));
+      e.raceway_stress_far = relative_max_error(far, 0, 1, f.raceway_stress_far);
+      e.approach       = relative_max_error(r.approach, 0, 1, f.approach);
+      // Ritz: the reduced solution minimises the energy norm of the error in
+      // its subspace, and ‖u - Tq‖² = fᵀu - gᵀq (K - σM norm) when g = Tᵀf.
+      // A negative value would say the reduced model is softer than the full
+      // one, which Rayleigh–Ritz excludes (up to the ball-row interpolation).
+      if (galerkin && f.work > 0.0)
+        e.energy = std::copysign(std::sqrt(std::abs(f.work - r.work) / f.work), f.work - r.work);
+      return e;
+    }
+
+    struct Row
+    {
+      std::size_t  instant = 0, snapshot = 0;
+      double       time = 0.0;
+      unsigned int fixed_interface = 0, constraint = 0;
+      std::size_t  size = 0;
+      bool         whole_model = false;
+      std::size_t  balls = 0;
+      double       ball_load_sum = 0.0, max_pressure = 0.0;
+      double       net_force = 0.0; ///< |resultant| of the loads, balanced by inertia relief [N]
+      double       full_setup = 0.0, full_solve = 0.0, reduced = 0.0;
+      Errors       error, run;
+    };
+
+    RunFields read_run(const CompareInputs &in, const reduction::ReducedModel &model)
+    {
+      const auto reject = [&](const std::string &problem) {
+        throw InputError(in.source, "Compare/Results file", "'" + in.results_file + "' " + problem);
+      };
+      if (!std::filesystem::exists(in.results_file))
+        reject("does not exist; run the scene first (`fretsim run " + in.source + "`)");
+      RunFields r;
+      const auto &grid = model.interface_grid.grid;
+      try
+        {
+          using output::ResultsFile;
+          std::vector<std::size_t> dims;
+          r.time        = ResultsFile::read_dataset(in.results_file, "/time", &dims);
+          r.n_snapshots = r.time.size();
+          if (r.n_snapshots == 0)
+            reject("holds no snapshot");
+          for (const auto &[name, field] : {std::pair<const char *, std::vector<double> *>{"pressure", &r.pressure},
+                                            {"shear_x", &r.shear_x},
+                                            {"shear_y", &r.shear_y}})
+            {
+              *field = ResultsFile::read_dataset(in.results_file, std::string("/fields/") + name, &dims);
+              if (dims != std::vector<std::size_t>{r.n_snapshots, static_cast<std::size_t>(grid.ny),
+                                                   static_cast<std::size_t>(grid.nx)})
+                reject(std::string("has /fields/") + name + " of another shape than [" + std::to_string(r.n_snapshots) +
+                       ", " + std::to_string(grid.ny) + ", " + std::to_string(grid.nx) +
+                       "] (snapshots, the model's interface grid): the run used another model");
+            }
+          r.n_cells    = grid.size();
+          r.ball_angle = ResultsFile::read_dataset(in.results_file, "/fields/ball_angle", &dims);
+          if (dims.size() != 2 || dims[0] != r.n_snapshots || dims[1] == 0)
+            reject("has /fields/ball_angle of a shape other than [snapshots, balls]");
+          r.n_balls   = dims[1];
+          r.ball_load = ResultsFile::read_dataset(in.results_file, "/fields/ball_load", &dims);
+          if (dims != std::vector<std::size_t>{r.n_snapshots, r.n_balls})
+            reject("has /fields/ball_load of another shape than /fields/ball_angle");
+          r.modal_coordinates = ResultsFile::read_dataset(in.results_file, "/fields/modal_coordinates", &dims);
+          if (dims.size() != 2 || dims[0] != r.n_snapshots || dims[1] != model.matrices.size())
+            reject("holds modal coordinates of another size than the model file's " +
+                   std::to_string(model.matrices.size()) + ": the run used another model");
+          r.n_coordinates = dims[1];
+        }
+      catch (const InputError &)
+        {
+          throw;
+        }
+      catch (const std::exception &error)
+        {
+          reject(std::string("cannot be read as a bearing_housing results file: ") + error.what());
+        }
+      try
+        {
+          r.ball_pass_frequency_hz =
+            output::ResultsFile::read_double_attribute(in.results_file, "/", "ball_pass_frequency_hz");
+        }
+      catch (const std::exception &)
+        {
+          r.ball_pass_frequency_hz = 0.0; // spread the instants over the whole run instead
+        }
+      for (const double v : r.ball_load)
+        if (!std::isfinite(v))
+          reject("holds ball loads that are not finite");
+      return r;
+    }
+
+    /// N snapshots spread evenly over the last ball-pass period (the load
+    /// pattern repeats with it), or over the whole run if it is shorter; the
+    /// last snapshot is always among them.
+    std::vector<std::size_t> choose_snapshots(const std::vector<double> &time, unsigned int wanted, double bpf_hz)
+    {
+      std::vector<std::size_t> chosen;
+      if (wanted >= time.size())
+        {
+          for (std::size_t k = 0; k < time.size(); ++k)
+            chosen.push_back(k);
+          return chosen;
+        }
+      const double t0 = time.front(), t1 = time.back();
+      const double period = bpf_hz > 0.0 ? 1.0 / bpf_hz : 0.0;
+      const double span   = period > 0.0 && period * (wanted - 1.0) / wanted <= t1 - t0 ? period : t1 - t0;
+      for (unsigned int i = 0; i < wanted; ++i)
+        {
+          const double target = t1 - span * (wanted - 1.0 - i) / wanted;
+          std::size_t  best   = 0;
+          for (std::size_t k = 1; k < time.size(); ++k)
+            if (std::abs(time[k] - target) < std::abs(time[best] - target))
+              best = k;
+          if (chosen.empty() || chosen.back() != best)
+            chosen.push_back(best);
+        }
+      return chosen;
+    }
+
+    std::string format_list(const std::vector<unsigned int> &values)
+    {
+      std::ostringstream s;
+      for (std::size_t k = 0; k < values.size(); ++k)
+        s << (k ? ", " : "") << values[k];
+      return s.str();
+    }
+
+    void write_csv(const std::string &path, const std::vector<Row> &rows)
+    {
+      std::ofstream csv(path);
+      csv << "instant,snapshot,time_s,fixed_interface_modes,characteristic_constraint_modes,reduced_size,"
+             "whole_model,balls,ball_load_sum_N,max_pressure_Pa,net_force_N,full_setup_s,full_solve_s,reduced_s,"
+             "error_u_r,error_u_theta,error_u_z,error_stress_grid,error_stress_raceway,error_stress_raceway_far,"
+             "error_ball_approach,error_energy,run_error_u_r,run_error_u_theta,run_error_u_z,run_error_stress_grid,"
+             "run_error_stress_raceway,run_error_stress_raceway_far,run_error_ball_approach\n";
+      csv << std::setprecision(10);
+      for (const Row &r : rows)
+        {
+          csv << r.instant << ',' << r.snapshot << ',' << r.time << ',' << r.fixed_interface << ',' << r.constraint
+              << ',' << r.size << ',' << (r.whole_model ? 1 : 0) << ',' << r.balls << ',' << r.ball_load_sum << ','
+              << r.max_pressure << ',' << r.net_force << ',' << r.full_setup << ',' << r.full_solve << ',' << r.reduced;
+          for (const Errors *e : {&r.error, &r.run})
+            {
+              csv << ',' << e->u_r << ',' << e->u_theta << ',' << e->u_z << ',' << e->grid_stress << ','
+                  << e->raceway_stress << ',' << e->raceway_stress_far << ',' << e->approach;
+              if (e == &r.error)
+                csv << ',' << e->energy;
+            }
+          csv << '\n';
+        }
+      if (!csv)
+        throw std::runtime_error("cannot write " + path);
+    }
+
+    std::string sci(double value, int width = 10)
+    {
+      std::ostringstream s;
+      if (std::isnan(value))
+        s << std::setw(width) << "-";
+      else
+        s << std::setw(width) << std::scientific << std::setprecision(2) << value;
+      return s.str();
+    }
+  } // namespace
+
+  CompareInputs read_compare_inputs(const std::string &config_file,
+                                    const std::vector<std::pair<std::string, std::string>> &overrides)
+  {
+    // The bearing_housing scene declares Model/... and Compare/... (bearing_scene.cpp).
+    SceneParameters::scene_of_file(config_file, {bearing_scene}); // rejects a file of another scene
+    SceneParameters p = scenes::declare_parameters(bearing_scene);
+    p.parse_file(config_file);
+    for (const auto &[path, value] : overrides)
+      p.set(path, value);
+
+    CompareInputs in;
+    in.source                    = config_file;
+    const std::string reduction  = p.get("Model/Reduction configuration");
+    if (reduction.empty())
+      p.reject("Model/Reduction configuration", "is empty; name the ring_housing configuration of the reduced model");
+    const std::filesystem::path reduction_path(reduction);
+    in.reduction_config = (reduction_path.is_absolute() ? reduction_path
+                                                         : std::filesystem::path(config_file).parent_path() / reduction_path)
+                            .lexically_normal()
+                            .string();
+    if (!std::filesystem::is_regular_file(in.reduction_config))
+      p.reject("Model/Reduction configuration", "names '" + in.reduction_config + "', which does not exist");
+    in.model_file = p.get("Model/Model file");
+    if (in.model_file.empty())
+      in.model_file = (std::filesystem::path("results") /
+                       (std::filesystem::path(in.reduction_config).stem().string() + "-model.h5"))
+                        .string();
+    in.results_file = p.get("Compare/Results file");
+    if (in.results_file.empty())
+      in.results_file =
+        (std::filesystem::path("results") / std::filesystem::path(config_file).stem() / "results.h5").string();
+    in.instants              = static_cast<unsigned int>(p.get_integer("Compare/Instants"));
+    in.fixed_interface_modes = counts(p, "Compare/Fixed-interface modes");
+    in.constraint_modes      = counts(p, "Compare/Characteristic constraint modes");
+    for (const unsigned int c : in.constraint_modes)
+      if (c == 0)
+        p.reject("Compare/Characteristic constraint modes", "expected counts >= 1, got 0");
+    return in;
+  }
+
+  std::vector<std::string> run_comparison(const CompareInputs &in, const std::string &output_directory, bool plots,
+                                          std::ostream &out)
+  {
+    const auto reject = [&](const std::string &parameter, const std::string &problem) {
+      throw InputError(in.source, parameter, problem);
+    };
+    if (in.instants == 0)
+      reject("Compare/Instants", "must be at least 1");
+
+    // ---- Everything is read and checked before MPI starts and before any file is written.
+    const SceneParameters    ring_parameters = read_ring_housing_parameters(in.reduction_config, {});
+    const RingHousingRequest body            = read_ring_housing_request(ring_parameters);
+    if (body.bodies != "ring")
+      reject("Model/Reduction configuration", "names '" + in.reduction_config + "' with Mesh/Bodies = " + body.bodies +
+                                                "; the reduced model is of the ring alone (Mesh/Bodies = ring)");
+    if (!body.gmsh_file.empty())
+      reject("Model/Reduction configuration", "names '" + in.reduction_config +
+                                                "', a Gmsh mesh; the balls are placed on the Ring section's raceway, "
+                                                "which needs Mesh/Source = parametric");
+    reduction::ReducedModel model;
+    try
+      {
+        // The hash `fretsim reduce` writes for this configuration: a model made
+        // from other inputs (geometry, mesh, material, mode counts) is refused.
+        model = reduction::read_model_file(in.model_file, reduce_input_hash(in.reduction_config));
+      }
+    catch (const reduction::ModelFileError &error)
+      {
+        reject("Model/Model file", std::string(error.what()) + " (reduction configuration '" + in.reduction_config + "')");
+      }
+    const fem::CylinderGrid &grid = model.interface_grid.grid;
+    if (grid.nx == 0)
+      reject("Model/Model file", "'" + in.model_file + "' has no interface grid operators: reduce with Reduction/"
+                                                       "Interface grid circumferential cells > 0");
+    if (model.raceway.angles.empty())
+      reject("Model/Model file", "'" + in.model_file + "' has no raceway ball operator: reduce with Reduction/"
+                                                       "Raceway ball positions > 0");
+    {
+      // Inertia relief needs the rigid-body motions among the coordinates: the
+      // first six characteristic constraint modes of a free ring (Guyan
+      // eigenvalue 0; below the 1 Hz rigid-body cutoff of fem::ModalSettings).
+      const auto &f = model.matrices.interface_frequencies_hz;
+      if (f.size() <= rigid_modes || f[rigid_modes - 1] >= fem::ModalSettings{}.rigid_body_cutoff_hz ||
+          f[rigid_modes] < fem::ModalSettings{}.rigid_body_cutoff_hz)
+        reject("Model/Model file", "'" + in.model_file + "' does not start with the six rigid-body motions of the free "
+                                                         "ring among its characteristic constraint modes (a free ring "
+                                                         "reduced with Reduction/Characteristic constraint modes > 6 "
+                                                         "does)");
+    }
+    const RunFields run = read_run(in, model);
+
+    const auto  &matrices = model.matrices;
+    const bool   reduced_interface = !matrices.interface_frequencies_hz.empty();
+    std::vector<unsigned int> fixed_list, constraint_list, dropped_fixed, dropped_constraint;
+    for (const unsigned int m : in.fixed_interface_modes)
+      (m <= matrices.n_modal ? fixed_list : dropped_fixed).push_back(m);
+    for (const unsigned int c : in.constraint_modes)
+      (reduced_interface && c <= matrices.n_constraint && c >= rigid_modes ? constraint_list : dropped_constraint)
+        .push_back(c);
+    // The model itself is always among the truncations.
+    std::vector<std::pair<unsigned int, unsigned int>> truncations;
+    for (const unsigned int m : fixed_list)
+      for (const unsigned int c : constraint_list)
+        truncations.emplace_back(m, c);
+    if (std::find(truncations.begin(), truncations.end(), std::make_pair(matrices.n_modal, matrices.n_constraint)) ==
+        truncations.end())
+      truncations.emplace_back(matrices.n_modal, matrices.n_constraint);
+    std::sort(truncations.begin(), truncations.end());
+    truncations.erase(std::unique(truncations.begin(), truncations.end()), truncations.end());
+
+    const std::vector<std::size_t> snapshots = choose_snapshots(run.time, in.instants, run.ball_pass_frequency_hz);
+    std::vector<Instant>           instants;
+    for (const std::size_t k : snapshots)
+      {
+        Instant instant;
+        instant.snapshot = k;
+        instant.time     = run.time[k];
+        for (std::size_t j = 0; j < run.n_balls; ++j)
+          if (run.ball_load[k * run.n_balls + j] > 0.0)
+            {
+              instant.ball_angles.push_back(run.ball_angle[k * run.n_balls + j]);
+              instant.ball_loads.push_back(run.ball_load[k * run.n_balls + j]);
+            }
+        const auto cells = [&](const std::vector<double> &field) {
+          return std::vector<double>(field.begin() + k * run.n_cells, field.begin() + (k + 1) * run.n_cells);
+        };
+        instant.tractions.pressure = cells(run.pressure);
+        instant.tractions.shear_x  = cells(run.shear_x);
+        instant.tractions.shear_y  = cells(run.shear_y);
+        instant.run_q.assign(run.modal_coordinates.begin() + k * run.n_coordinates,
+                             run.modal_coordinates.begin() + (k + 1) * run.n_coordinates);
+        instants.push_back(std::move(instant));
+      }
+
+    // The raceway sample points: the line of the model's points inside the outer surface.
+    std::vector<std::size_t>  raceway_points;
+    std::vector<fem::Point3>  raceway_xyz;
+    for (std::size_t p = 0; p < model.sample_points.points.size(); ++p)
+      {
+        const auto &x = model.sample_points.points[p];
+        if (std::hypot(x[0], x[1]) < body.ring.outer_radius * (1.0 - 1e-6))
+          {
+            raceway_points.push_back(p);
+            raceway_xyz.push_back(x);
+          }
+      }
+
+    // ---- The full FE ring.
+    std::unique_ptr<fem::ParallelEnvironment> mpi;
+    if (!fem::ParallelEnvironment::active())
+      mpi = std::make_unique<fem::ParallelEnvironment>();
+    const bool root = fem::ParallelEnvironment::rank() == 0;
+    std::vector<Row> rows;
+    {
+      const auto setup_start = Clock::now();
+      auto       mesh        = std::make_shared<const fem::Mesh>(build_ring_housing_mesh(body, in.reduction_config));
+      fem::ElasticModel         fe(mesh, body.materials, body.degree);
+      fem::ShiftedStaticSolver  solver(fe, reduction::ReductionSettings{}.static_shift_hz, /*inertia_relief=*/true);
+      const double              full_setup = seconds_since(setup_start);
+      const double              sigma      = solver.shift();
+      const fem::SurfaceGridMap map(fe, BoundaryId::ring_outer, grid);
+      const fem::StressSampler  grid_sampler = fem::StressSampler::on_grid(fe, grid);
+      std::unique_ptr<fem::StressSampler> raceway_sampler;
+      if (!raceway_xyz.empty())
+        raceway_sampler = std::make_unique<fem::StressSampler>(fe, raceway_xyz, fem::StressFrame::cylindrical);
+
+      // The zone around a ball where the full FE carries the footprint's local
+      // stress (smeared over its cells) and the reduced model, by design, does
+      // not (Hertz does, ring_coupling.h): two FE cells, or three transverse
+      // footprint semi-axes if that is wider [rad].
+      const double race_radius = body.ring.has_groove() ? body.ring.groove_bottom_radius : body.ring.bore_radius;
+      const double local_zone  = std::max(2.0 * 2.0 * M_PI / (body.divisions.circumferential << body.refinements),
+                                          3.0 * model.raceway.semi_axis_transverse / race_radius);
+
+      std::vector<Truncation> views;
+      for (const auto &[m, c] : truncations)
+        views.push_back(truncate(model, m, c, raceway_points, sigma));
+
+      if (root)
+        {
+          out << "model:        " << in.model_file << ": " << matrices.size() << " coordinates (" << matrices.n_constraint
+              << " characteristic constraint + " << matrices.n_modal << " fixed-interface modes), interface grid "
+              << grid.nx << " x " << grid.ny << ", " << model.raceway.angles.size() << " ball positions, "
+              << raceway_points.size() << " raceway sample points\n"
+              << "full FE:      " << fe.n_dofs() << " DoFs (FE_Q" << body.degree << ", "
+              << fem::ParallelEnvironment::n_ranks() << " rank(s)); mesh, K, M and the factorisation of K - sigma M "
+              << "(sigma = -(2 pi " << reduction::ReductionSettings{}.static_shift_hz << " Hz)^2) in " << std::fixed
+              << std::setprecision(2) << full_setup << " s\n"
+              << std::defaultfloat << "run:          " << in.results_file << ": " << run.n_snapshots
+              << " snapshots, " << run.n_balls << " balls";
+          if (run.ball_pass_frequency_hz > 0.0)
+            out << ", ball pass " << run.ball_pass_frequency_hz << " Hz";
+          out << "; instants at snapshots";
+          for (const auto &i : instants)
+            out << ' ' << i.snapshot;
+          out << "\n";
+          if (!dropped_fixed.empty())
+            out << "note:         m' = " << format_list(dropped_fixed) << " left out (the model has m = "
+                << matrices.n_modal << ")\n";
+          if (!dropped_constraint.empty())
+            out << "note:         n_cc' = " << format_list(dropped_constraint) << " left out ("
+                << (reduced_interface ? "between the six rigid-body motions and the model's n_cc = " +
+                                          std::to_string(matrices.n_constraint)
+                                      : std::string("the model keeps every boundary DoF: no interface modes to truncate"))
+                << ")\n";
+          out << "\nerrors of the reduced model (m = " << matrices.n_modal << ", n_cc = " << matrices.n_constraint
+              << ") against the full FE ring, max-norm relative to the full field's maximum\n"
+              << "(u on the interface grid, stress on the grid and at the raceway points, ball approach r.q vs f.u,\n"
+              << " energy norm of the Ritz error; 'run' = the run's own dynamic q, rigid motion removed, against the\n"
+              << " full static solution; both models balance the loads' resultant F_net by rigid-body inertia;\n"
+              << " 'race far': raceway points more than " << std::setprecision(3) << local_zone * 180.0 / M_PI
+              << " deg from every ball, outside the footprint's local stress)\n" << std::defaultfloat
+              << "  inst  snapshot      t [s]  balls   sum Q [N]  p_max [MPa]  F_net [N]    u_r err  u_theta err    u_z err"
+                 "  stress grid  stress race    race far   approach     energy  run u_r err  run stress  full [s]"
+                 "  reduced [ms]\n";
+        }
+
+      for (std::size_t i = 0; i < instants.size(); ++i)
+        {
+          const Instant &instant = instants[i];
+          fem::StaticLoad load;
+          load.grid_tractions.push_back({&map, &instant.tractions});
+          std::vector<fem::RacewayBallLoad> unit_balls;
+          for (std::size_t b = 0; b < instant.ball_angles.size(); ++b)
+            {
+              fem::RacewayBallLoad ball;
+              ball.ring                      = body.ring;
+              ball.angle                     = std::fmod(instant.ball_angles[b], 2.0 * M_PI);
+              ball.contact_angle             = model.raceway.contact_angle;
+              ball.semi_axis_circumferential = model.raceway.semi_axis_circumferential;
+              ball.semi_axis_transverse      = model.raceway.semi_axis_transverse;
+              ball.force                     = 1.0;
+              unit_balls.push_back(ball);
+              ball.force = instant.ball_loads[b];
+              load.ball_loads.push_back(ball);
+            }
+          FullSolution full;
+          const fem::DisplacementField u = solver.solve(load);
+          full.solve_seconds             = solver.last_load_seconds() + solver.last_solve_seconds();
+          const fem::Vector3 resultant   = solver.last_net_force();
+          const double net_force = std::sqrt(resultant[0] * resultant[0] + resultant[1] * resultant[1] +
+                                             resultant[2] * resultant[2]);
+          const fem::GridDisplacements d = map.interpolate(u);
+          full.displacement              = {d.u_r, d.u_theta, d.u_z};
+          full.grid_stress               = grid_sampler.evaluate(u);
+          if (raceway_sampler)
+            full.raceway_stress = raceway_sampler->evaluate(u);
+          for (std::size_t p = 0; p < raceway_xyz.size(); ++p)
+            {
+              const double theta = std::atan2(raceway_xyz[p][1], raceway_xyz[p][0]);
+              bool         far   = true;
+              for (const double psi : instant.ball_angles)
+                far = far && std::abs(std::remainder(theta - psi, 2.0 * M_PI)) >= local_zone;
+              if (far)
+                {
+                  full.far_points.push_back(p);
+                  full.raceway_stress_far.insert(full.raceway_stress_far.end(), full.raceway_stress.begin() + 6 * p,
+                                                 full.raceway_stress.begin() + 6 * (p + 1));
+                }
+            }
+          const double area = grid.cell_area();
+          for (std::size_t c = 0; c < grid.size(); ++c)
+            full.work += area * (-instant.tractions.pressure[c] * d.u_r[c] + instant.tractions.shear_x[c] * d.u_theta[c] +
+                                 instant.tractions.shear_y[c] * d.u_z[c]);
+          // The raceway's approach at each ball: fᵀu of its unit load, the
+          // work-conjugate measure the raceway operator stores.
+          for (std::size_t b = 0; b < unit_balls.size(); ++b)
+            {
+              const fem::PatchForces     patch = fem::raceway_patch_forces(unit_balls[b]);
+              const fem::SurfacePointMap points(fe, patch.points, BoundaryId::raceway);
+              const auto                 at = points.interpolate(u);
+              double                     a  = 0.0;
+              for (std::size_t p = 0; p < at.size(); ++p)
+                for (unsigned int k = 0; k < 3; ++k)
+                  a += patch.forces[p][k] * at[p][k];
+              full.approach.push_back(a);
+              full.work += instant.ball_loads[b] * a;
+            }
+
+          double load_sum = 0.0, max_pressure = 0.0;
+          for (const double q : instant.ball_loads)
+            load_sum += q;
+          for (const double p : instant.tractions.pressure)
+            max_pressure = std::max(max_pressure, p);
+          for (const Truncation &view : views)
+            {
+              Row row;
+              row.instant         = i;
+              row.snapshot        = instant.snapshot;
+              row.time            = instant.time;
+              row.fixed_interface = view.fixed_interface;
+              row.constraint      = view.constraint;
+              row.size            = view.n;
+              row.whole_model     = view.whole_model;
+              row.balls           = instant.ball_loads.size();
+              row.ball_load_sum   = load_sum;
+              row.max_pressure    = max_pressure;
+              row.net_force       = net_force;
+              row.full_setup      = full_setup;
+              row.full_solve      = full.solve_seconds;
+              const Recovered reduced = reduced_static(view, instant, area);
+              row.reduced             = reduced.seconds;
+              row.error               = measure(reduced, full, true);
+              if (view.whole_model)
+                {
+                  Recovered dynamic;
+                  dynamic.q = instant.run_q;
+                  remove_rigid_motion(view, dynamic.q); // the ring's rigid motion in the housing is no deformation
+                  recover(view, instant, dynamic);
+                  row.run = measure(dynamic, full, false);
+                }
+              rows.push_back(row);
+              if (root && view.whole_model)
+                out << std::setw(6) << i << std::setw(10) << instant.snapshot << std::setw(11) << std::setprecision(4)
+                    << std::defaultfloat << instant.time << std::setw(7) << row.balls << std::setw(12) << std::fixed
+                    << std::setprecision(1) << load_sum << std::setw(13) << std::setprecision(2) << 1e-6 * max_pressure
+                    << ' ' << sci(net_force) << ' ' << sci(row.error.u_r) << "   " << sci(row.error.u_theta) << ' ' << sci(row.error.u_z)
+                    << "   " << sci(row.error.grid_stress) << "   " << sci(row.error.raceway_stress) << "  "
+                    << sci(row.error.raceway_stress_far) << ' ' << sci(row.error.approach) << ' ' << sci(row.error.energy) << "   " << sci(row.run.u_r) << "  "
+                    << sci(row.run.grid_stress) << std::fixed << std::setprecision(3) << std::setw(10)
+                    << full_setup + full.solve_seconds << std::setw(14) << 1e3 * reduced.seconds << "\n"
+                    << std::defaultfloat;
+            }
+        }
+    } // the FE objects go before MPI stops
+
+    std::vector<std::string> files;
+    if (!root)
+      return files;
+    out << "full [s] = mesh + K + M + factorisation (once) + this instant's load assembly and solve\n";
+
+    // ---- The study: the worst instant per truncation.
+    out << "\nerror against the reduced model's size (worst of the " << instants.size()
+        << " instants; reduced time: mean per instant, load projection + factorisation + solve + recovery)\n"
+        << "     m'  n_cc'   size  reduced [ms]    u_r err  u_theta err    u_z err  stress grid  stress race    race far"
+           "     energy\n";
+    for (const auto &[m, c] : truncations)
+      {
+        Errors worst;
+        double seconds = 0.0;
+        std::size_t count = 0, size = 0;
+        for (const Row &r : rows)
+          if (r.fixed_interface == m && r.constraint == c)
+            {
+              const auto take = [](double &w, double v) { w = std::isnan(w) ? v : std::max(w, v); };
+              take(worst.u_r, r.error.u_r);
+              take(worst.u_theta, r.error.u_theta);
+              take(worst.u_z, r.error.u_z);
+              take(worst.grid_stress, r.error.grid_stress);
+              take(worst.raceway_stress, r.error.raceway_stress);
+              take(worst.raceway_stress_far, r.error.raceway_stress_far);
+              take(worst.energy, r.error.energy);
+              seconds += r.reduced;
+              size = r.size;
+              ++count;
+            }
+        out << std::setw(7) << m << std::setw(7) << c << std::setw(7) << size << std::fixed << std::setprecision(3)
+            << std::setw(14) << 1e3 * seconds / std::max<std::size_t>(count, 1) << ' ' << sci(worst.u_r) << "   "
+            << sci(worst.u_theta) << ' ' << sci(worst.u_z) << "   " << sci(worst.grid_stress) << "   "
+            << sci(worst.raceway_stress) << "  " << sci(worst.raceway_stress_far) << ' ' << sci(worst.energy) << "\n"
+            << std::defaultfloat;
+      }
+
+    std::filesystem::create_directories(output_directory);
+    const std::string csv_path = (std::filesystem::path(output_directory) / "compare.csv").string();
+    write_csv(csv_path, rows);
+    files.push_back(csv_path);
+    if (plots)
+      for (const auto &figure : scenes::run_plot_script("plot_compare.py", {csv_path}))
+        files.push_back(figure);
+    return files;
+  }
+
+  std::vector<std::string> run_compare_command(const CompareOptions &options, std::ostream &out)
+  {
+    const CompareInputs inputs = read_compare_inputs(options.config_file, options.overrides);
+    const std::string   directory =
+      options.output_directory.empty() ?
+          (std::filesystem::path("results") / (std::filesystem::path(options.config_file).stem().string() + "-compare"))
+          .string() :
+          options.output_directory;
+    return run_comparison(inputs, directory, options.plots, out);
+  }
+} // namespace fretsim::app

@@ -1,0 +1,72 @@
+#pragma once
+// `fretsim compare CONFIG`: the reduced ring of a bearing_housing co-simulation
+// checked against the full FE model (issue 8). At N instants of a run, the
+// same loads — the balls (Hertz patches at ψ_j with force Q_j, the model's
+// footprint and contact angle) and the housing's tractions on the interface
+// grid — are applied to
+//   * the full FE ring of the reduction configuration, solved statically with
+//     the reduction's small shift, (K - σM) u = f, σ = -(2π · 1 Hz)² (the free
+//     ring's loads are nearly self-equilibrated; the shift only makes K - σM
+//     invertible, see fem/shifted_static_solver.h), and
+//   * the reduced model alone (the model file): q = (K_r - σM_r)⁻¹ g with
+//     g = Σ_j Q_j r(ψ_j) + Σ_c A (H T)_cᵀ (-p, τ_x, τ_y)_c, r interpolated
+//     linearly between the stored ball positions as the co-simulation does,
+// and the reduced model's recovered displacements and stresses on the
+// interface grid and at the raceway sample points are measured against the
+// full ones (max-norm errors, relative to the full field's maximum), together
+// with the energy-norm error of the Ritz solution and the run's own (dynamic)
+// modal coordinates against the full static solution; run times of both.
+// The study repeats the reduced side for the model truncated to its first
+// n_cc' characteristic constraint and first m' fixed-interface coordinates
+// (nested subspaces: both sets are ordered by ascending eigenvalue).
+#include "app/parameters.h" // InputError
+
+#include <iosfwd>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace fretsim::app
+{
+  struct CompareOptions
+  {
+    std::string config_file;      ///< bearing_housing scene file
+    std::string output_directory; ///< default: results/<config name>-compare
+    std::vector<std::pair<std::string, std::string>> overrides; ///< --set Section/Name=value
+    bool        plots    = true;
+    bool        progress = true;
+  };
+
+  /// What the comparison works on, paths resolved: the core's explicit
+  /// arguments (read_compare_inputs() fills them from a scene file).
+  struct CompareInputs
+  {
+    std::string  source;           ///< the file the inputs come from, for messages
+    std::string  reduction_config; ///< ring_housing configuration of the model
+    std::string  model_file;       ///< reduced model (.h5) made from it
+    std::string  results_file;     ///< the co-simulation's results.h5
+    unsigned int instants = 4;     ///< how many snapshots to compare
+    /// Truncations studied: m' and n_cc' (those above the model's are left out).
+    std::vector<unsigned int> fixed_interface_modes, constraint_modes;
+  };
+
+  /// Reads the scene file (and --set overrides) and resolves the paths: the
+  /// reduction configuration relative to the scene file's directory; an empty
+  /// model file is results/<reduction config name>-model.h5 and an empty
+  /// results file results/<scene name>/results.h5 (relative to the working
+  /// directory, where `fretsim reduce` and `fretsim run` put them). Throws
+  /// InputError.
+  CompareInputs read_compare_inputs(const std::string &config_file,
+                                    const std::vector<std::pair<std::string, std::string>> &overrides);
+
+  /// Checks every input (InputError naming `inputs.source` and the parameter;
+  /// nothing is written), then compares, prints the tables to `out` (rank 0)
+  /// and writes <output_directory>/compare.csv and, with `plots`,
+  /// compare.png. Returns the files written (on rank 0). Starts MPI unless it
+  /// runs already; the full FE model is distributed over the ranks.
+  std::vector<std::string> run_comparison(const CompareInputs &inputs, const std::string &output_directory,
+                                          bool plots, std::ostream &out);
+
+  /// `fretsim compare CONFIG [-o DIR] [--set ...]`.
+  std::vector<std::string> run_compare_command(const CompareOptions &options, std::ostream &out);
+} // namespace fretsim::app

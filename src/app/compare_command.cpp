@@ -384,8 +384,20 @@ namespace fretsim::app
       double       ball_load_sum = 0.0, max_pressure = 0.0;
       double       net_force = 0.0; ///< |resultant| of the loads, balanced by inertia relief [N]
       double       full_setup = 0.0, full_solve = 0.0, reduced = 0.0;
+      /// The scales the errors are relative to: max |u_r| on the grid of the
+      /// full and the reduced solution [m], max |σ| of the full one on the
+      /// grid and at the raceway points [Pa].
+      double       full_max_u_r = 0.0, reduced_max_u_r = 0.0, full_max_stress_grid = 0.0, full_max_stress_raceway = 0.0;
       Errors       error, run;
     };
+
+    double max_abs(const std::vector<double> &values, std::size_t offset = 0, std::size_t stride = 1)
+    {
+      double m = 0.0;
+      for (std::size_t k = offset; k < values.size(); k += stride)
+        m = std::max(m, std::abs(values[k]));
+      return m;
+    }
 
     RunFields read_run(const CompareInputs &in, const reduction::ReducedModel &model)
     {
@@ -495,7 +507,8 @@ namespace fretsim::app
              "whole_model,balls,ball_load_sum_N,max_pressure_Pa,net_force_N,full_setup_s,full_solve_s,reduced_s,"
              "error_u_r,error_u_theta,error_u_z,error_stress_grid,error_stress_raceway,error_stress_raceway_far,"
              "error_ball_approach,error_energy,run_error_u_r,run_error_u_theta,run_error_u_z,run_error_stress_grid,"
-             "run_error_stress_raceway,run_error_stress_raceway_far,run_error_ball_approach\n";
+             "run_error_stress_raceway,run_error_stress_raceway_far,run_error_ball_approach,full_max_u_r_m,"
+             "reduced_max_u_r_m,full_max_stress_grid_Pa,full_max_stress_raceway_Pa\n";
       csv << std::setprecision(10);
       for (const Row &r : rows)
         {
@@ -509,7 +522,8 @@ namespace fretsim::app
               if (e == &r.error)
                 csv << ',' << e->energy;
             }
-          csv << '\n';
+          csv << ',' << r.full_max_u_r << ',' << r.reduced_max_u_r << ',' << r.full_max_stress_grid << ','
+              << r.full_max_stress_raceway << '\n';
         }
       if (!csv)
         throw std::runtime_error("cannot write " + path);
@@ -738,7 +752,7 @@ namespace fretsim::app
               << " full static solution; both models balance the loads' resultant F_net by rigid-body inertia;\n"
               << " 'race far': raceway points more than " << std::setprecision(3) << local_zone * 180.0 / M_PI
               << " deg from every ball, outside the footprint's local stress)\n" << std::defaultfloat
-              << "  inst  snapshot      t [s]  balls   sum Q [N]  p_max [MPa]  F_net [N]    u_r err  u_theta err    u_z err"
+              << "  inst  snapshot      t [s]  balls   sum Q [N]  p_max [MPa]  F_net [N]  max u_r full/reduced [um]    u_r err  u_theta err    u_z err"
                  "  stress grid  stress race    race far   approach     energy  run u_r err  run stress  full [s]"
                  "  reduced [ms]\n";
         }
@@ -824,10 +838,14 @@ namespace fretsim::app
               row.ball_load_sum   = load_sum;
               row.max_pressure    = max_pressure;
               row.net_force       = net_force;
+              row.full_max_u_r            = max_abs(full.displacement[0]);
+              row.full_max_stress_grid    = max_abs(full.grid_stress);
+              row.full_max_stress_raceway = max_abs(full.raceway_stress);
               row.full_setup      = full_setup;
               row.full_solve      = full.solve_seconds;
               const Recovered reduced = reduced_static(view, instant, area);
               row.reduced             = reduced.seconds;
+              row.reduced_max_u_r     = max_abs(reduced.displacement, 0, 3);
               row.error               = measure(reduced, full, true);
               if (view.whole_model)
                 {
@@ -842,7 +860,9 @@ namespace fretsim::app
                 out << std::setw(6) << i << std::setw(10) << instant.snapshot << std::setw(11) << std::setprecision(4)
                     << std::defaultfloat << instant.time << std::setw(7) << row.balls << std::setw(12) << std::fixed
                     << std::setprecision(1) << load_sum << std::setw(13) << std::setprecision(2) << 1e-6 * max_pressure
-                    << ' ' << sci(net_force) << ' ' << sci(row.error.u_r) << "   " << sci(row.error.u_theta) << ' ' << sci(row.error.u_z)
+                    << ' ' << sci(net_force) << std::fixed << std::setprecision(3) << std::setw(13)
+                    << 1e6 * row.full_max_u_r << std::setw(14) << 1e6 * row.reduced_max_u_r << ' '
+                    << sci(row.error.u_r) << "   " << sci(row.error.u_theta) << ' ' << sci(row.error.u_z)
                     << "   " << sci(row.error.grid_stress) << "   " << sci(row.error.raceway_stress) << "  "
                     << sci(row.error.raceway_stress_far) << ' ' << sci(row.error.approach) << ' ' << sci(row.error.energy) << "   " << sci(row.run.u_r) << "  "
                     << sci(row.run.grid_stress) << std::fixed << std::setprecision(3) << std::setw(10)

@@ -43,6 +43,8 @@ def main(csv_path):
               ("error_stress_raceway", "stress at the raceway points", "^-"),
               ("error_stress_raceway_far", "stress at raceway points away from the balls", "^:"),
               ("error_energy", "energy norm", "d-"), ("error_ball_approach", "ball approach r.q", "v--"),
+              ("error_u_r_balls", "u_r, the balls alone", "o--"),
+              ("error_u_r_tractions", "u_r, the interface tractions alone", "s--"),
               ("run_error_u_r", "run's q: u_r on the grid", "x--"),
               ("run_error_stress_grid", "run's q: stress on the grid", "+--")]
     for key, label, style in series:
@@ -65,9 +67,10 @@ def main(csv_path):
     worst = {}
     for r in rows:
         key = (int(r["fixed_interface_modes"]), int(r["characteristic_constraint_modes"]))
-        entry = worst.setdefault(key, {"size": int(r["reduced_size"]), "u": 0.0, "s": 0.0, "e": 0.0,
+        entry = worst.setdefault(key, {"size": int(r["reduced_size"]), "u": 0.0, "s": 0.0, "e": 0.0, "p": 0.0,
                                        "t": 0.0, "count": 0})
-        for name, column in (("u", "error_u_r"), ("s", "error_stress_grid"), ("e", "error_energy")):
+        for name, column in (("u", "error_u_r"), ("s", "error_stress_grid"), ("e", "error_energy"),
+                             ("p", "error_u_r_balls"), ("p", "error_u_r_tractions")):
             value = number(r, column)
             if not math.isnan(value):
                 entry[name] = max(entry[name], value)
@@ -81,9 +84,12 @@ def main(csv_path):
         u = clipped([worst[k]["u"] for k in keys])
         s = clipped([worst[k]["s"] for k in keys])
         e = clipped([worst[k]["e"] for k in keys])
+        parts = clipped([worst[k]["p"] for k in keys])
         line, = axes[1].plot(sizes, u, "o-", label=f"m' = {m}: u_r")
         axes[1].plot(sizes, s, "s--", color=line.get_color(), alpha=0.7, label=f"m' = {m}: stress")
         axes[1].plot(sizes, e, "d:", color=line.get_color(), alpha=0.7, label=f"m' = {m}: energy")
+        axes[1].plot(sizes, parts, "x-.", color=line.get_color(), alpha=0.7,
+                     label=f"m' = {m}: u_r, balls or tractions alone")
         for k, xs, ys in zip(keys, sizes, u):
             axes[1].annotate(str(k[1]), (xs, ys), fontsize=7, textcoords="offset points", xytext=(3, 3))
         axes[2].plot(times, u, "o-", color=line.get_color(), label=f"m' = {m}: u_r")

@@ -388,7 +388,9 @@ namespace fretsim::app
       /// full and the reduced solution [m], max |σ| of the full one on the
       /// grid and at the raceway points [Pa].
       double       full_max_u_r = 0.0, reduced_max_u_r = 0.0, full_max_stress_grid = 0.0, full_max_stress_raceway = 0.0;
+      double       full_max_u_r_balls = 0.0; ///< of the balls alone: over full_max_u_r, how much the parts cancel
       Errors       error, run;
+      Errors       error_balls, error_tractions; ///< the balls alone, the interface tractions alone
     };
 
     double max_abs(const std::vector<double> &values, std::size_t offset = 0, std::size_t stride = 1)
@@ -508,7 +510,9 @@ namespace fretsim::app
              "error_u_r,error_u_theta,error_u_z,error_stress_grid,error_stress_raceway,error_stress_raceway_far,"
              "error_ball_approach,error_energy,run_error_u_r,run_error_u_theta,run_error_u_z,run_error_stress_grid,"
              "run_error_stress_raceway,run_error_stress_raceway_far,run_error_ball_approach,full_max_u_r_m,"
-             "reduced_max_u_r_m,full_max_stress_grid_Pa,full_max_stress_raceway_Pa\n";
+             "reduced_max_u_r_m,full_max_stress_grid_Pa,full_max_stress_raceway_Pa,full_max_u_r_balls_m,"
+             "error_u_r_balls,error_stress_grid_balls,error_stress_raceway_balls,error_energy_balls,"
+             "error_u_r_tractions,error_stress_grid_tractions,error_stress_raceway_tractions,error_energy_tractions\n";
       csv << std::setprecision(10);
       for (const Row &r : rows)
         {
@@ -523,7 +527,10 @@ namespace fretsim::app
                 csv << ',' << e->energy;
             }
           csv << ',' << r.full_max_u_r << ',' << r.reduced_max_u_r << ',' << r.full_max_stress_grid << ','
-              << r.full_max_stress_raceway << '\n';
+              << r.full_max_stress_raceway << ',' << r.full_max_u_r_balls;
+          for (const Errors *e : {&r.error_balls, &r.error_tractions})
+            csv << ',' << e->u_r << ',' << e->grid_stress << ',' << e->raceway_stress << ',' << e->energy;
+          csv << '\n';
         }
       if (!csv)
         throw std::runtime_error("cannot write " + path);
@@ -753,71 +760,90 @@ namespace fretsim::app
               << " 'race far': raceway points more than " << std::setprecision(3) << local_zone * 180.0 / M_PI
               << " deg from every ball, outside the footprint's local stress)\n" << std::defaultfloat
               << "  inst  snapshot      t [s]  balls   sum Q [N]  p_max [MPa]  F_net [N]  max u_r full/reduced [um]    u_r err  u_theta err    u_z err"
-                 "  stress grid  stress race    race far   approach     energy  run u_r err  run stress  full [s]"
-                 "  reduced [ms]\n";
+                 "  stress grid  stress race    race far   approach     energy  run u_r err  run stress"
+                 "  u_r: balls alone  tractions alone  full [s]  reduced [ms]\n";
         }
 
       for (std::size_t i = 0; i < instants.size(); ++i)
         {
           const Instant &instant = instants[i];
-          fem::StaticLoad load;
-          load.grid_tractions.push_back({&map, &instant.tractions});
-          std::vector<fem::RacewayBallLoad> unit_balls;
-          for (std::size_t b = 0; b < instant.ball_angles.size(); ++b)
+          // The balls alone and the tractions alone, each balanced by inertia
+          // as the whole is: in a stiff housing the two nearly cancel, and
+          // their own errors tell how well each is represented.
+          Instant balls_only = instant, tractions_only = instant;
+          for (auto *field : {&balls_only.tractions.pressure, &balls_only.tractions.shear_x, &balls_only.tractions.shear_y})
+            std::fill(field->begin(), field->end(), 0.0);
+          std::fill(tractions_only.ball_loads.begin(), tractions_only.ball_loads.end(), 0.0);
+
+          // The loaded balls' patches on the raceway: their approach fᵀu per
+          // unit load is the work-conjugate measure the raceway operator stores.
+          std::vector<fem::RacewayBallLoad>                  unit_balls;
+          std::vector<fem::PatchForces>                      patches;
+          std::vector<std::unique_ptr<fem::SurfacePointMap>> patch_maps;
+          for (const double angle : instant.ball_angles)
             {
               fem::RacewayBallLoad ball;
               ball.ring                      = body.ring;
-              ball.angle                     = std::fmod(instant.ball_angles[b], 2.0 * M_PI);
+              ball.angle                     = std::fmod(angle, 2.0 * M_PI);
               ball.contact_angle             = model.raceway.contact_angle;
               ball.semi_axis_circumferential = model.raceway.semi_axis_circumferential;
               ball.semi_axis_transverse      = model.raceway.semi_axis_transverse;
               ball.force                     = 1.0;
               unit_balls.push_back(ball);
-              ball.force = instant.ball_loads[b];
-              load.ball_loads.push_back(ball);
-            }
-          FullSolution full;
-          const fem::DisplacementField u = solver.solve(load);
-          full.solve_seconds             = solver.last_load_seconds() + solver.last_solve_seconds();
-          const fem::Vector3 resultant   = solver.last_net_force();
-          const double net_force = std::sqrt(resultant[0] * resultant[0] + resultant[1] * resultant[1] +
-                                             resultant[2] * resultant[2]);
-          const fem::GridDisplacements d = map.interpolate(u);
-          full.displacement              = {d.u_r, d.u_theta, d.u_z};
-          full.grid_stress               = grid_sampler.evaluate(u);
-          if (raceway_sampler)
-            full.raceway_stress = raceway_sampler->evaluate(u);
-          for (std::size_t p = 0; p < raceway_xyz.size(); ++p)
-            {
-              const double theta = std::atan2(raceway_xyz[p][1], raceway_xyz[p][0]);
-              bool         far   = true;
-              for (const double psi : instant.ball_angles)
-                far = far && std::abs(std::remainder(theta - psi, 2.0 * M_PI)) >= local_zone;
-              if (far)
-                {
-                  full.far_points.push_back(p);
-                  full.raceway_stress_far.insert(full.raceway_stress_far.end(), full.raceway_stress.begin() + 6 * p,
-                                                 full.raceway_stress.begin() + 6 * (p + 1));
-                }
+              patches.push_back(fem::raceway_patch_forces(ball));
+              patch_maps.push_back(std::make_unique<fem::SurfacePointMap>(fe, patches.back().points, BoundaryId::raceway));
             }
           const double area = grid.cell_area();
-          for (std::size_t c = 0; c < grid.size(); ++c)
-            full.work += area * (-instant.tractions.pressure[c] * d.u_r[c] + instant.tractions.shear_x[c] * d.u_theta[c] +
-                                 instant.tractions.shear_y[c] * d.u_z[c]);
-          // The raceway's approach at each ball: fᵀu of its unit load, the
-          // work-conjugate measure the raceway operator stores.
-          for (std::size_t b = 0; b < unit_balls.size(); ++b)
-            {
-              const fem::PatchForces     patch = fem::raceway_patch_forces(unit_balls[b]);
-              const fem::SurfacePointMap points(fe, patch.points, BoundaryId::raceway);
-              const auto                 at = points.interpolate(u);
-              double                     a  = 0.0;
-              for (std::size_t p = 0; p < at.size(); ++p)
-                for (unsigned int k = 0; k < 3; ++k)
-                  a += patch.forces[p][k] * at[p][k];
-              full.approach.push_back(a);
-              full.work += instant.ball_loads[b] * a;
-            }
+          double       net_force = 0.0;
+          const auto   full_solution = [&](const Instant &part) {
+            fem::StaticLoad load;
+            load.grid_tractions.push_back({&map, &part.tractions});
+            for (std::size_t b = 0; b < unit_balls.size(); ++b)
+              if (part.ball_loads[b] > 0.0)
+                {
+                  load.ball_loads.push_back(unit_balls[b]);
+                  load.ball_loads.back().force = part.ball_loads[b];
+                }
+            FullSolution                   full;
+            const fem::DisplacementField u = solver.solve(load);
+            full.solve_seconds             = solver.last_load_seconds() + solver.last_solve_seconds();
+            const fem::Vector3 resultant   = solver.last_net_force();
+            net_force = std::sqrt(resultant[0] * resultant[0] + resultant[1] * resultant[1] + resultant[2] * resultant[2]);
+            const fem::GridDisplacements d = map.interpolate(u);
+            full.displacement              = {d.u_r, d.u_theta, d.u_z};
+            full.grid_stress               = grid_sampler.evaluate(u);
+            if (raceway_sampler)
+              full.raceway_stress = raceway_sampler->evaluate(u);
+            for (std::size_t p = 0; p < raceway_xyz.size(); ++p)
+              {
+                const double theta = std::atan2(raceway_xyz[p][1], raceway_xyz[p][0]);
+                bool         far   = true;
+                for (const double psi : instant.ball_angles)
+                  far = far && std::abs(std::remainder(theta - psi, 2.0 * M_PI)) >= local_zone;
+                if (far)
+                  {
+                    full.far_points.push_back(p);
+                    full.raceway_stress_far.insert(full.raceway_stress_far.end(), full.raceway_stress.begin() + 6 * p,
+                                                   full.raceway_stress.begin() + 6 * (p + 1));
+                  }
+              }
+            for (std::size_t c = 0; c < grid.size(); ++c)
+              full.work += area * (-part.tractions.pressure[c] * d.u_r[c] + part.tractions.shear_x[c] * d.u_theta[c] +
+                                   part.tractions.shear_y[c] * d.u_z[c]);
+            for (std::size_t b = 0; b < unit_balls.size(); ++b)
+              {
+                const auto at = patch_maps[b]->interpolate(u);
+                double     a  = 0.0;
+                for (std::size_t p = 0; p < at.size(); ++p)
+                  for (unsigned int k = 0; k < 3; ++k)
+                    a += patches[b].forces[p][k] * at[p][k];
+                full.approach.push_back(a);
+                full.work += part.ball_loads[b] * a;
+              }
+            return full;
+          };
+          const FullSolution full_balls = full_solution(balls_only), full_tractions = full_solution(tractions_only);
+          const FullSolution full = full_solution(instant); // last: its timing and resultant are reported
 
           double load_sum = 0.0, max_pressure = 0.0;
           for (const double q : instant.ball_loads)
@@ -834,11 +860,13 @@ namespace fretsim::app
               row.constraint      = view.constraint;
               row.size            = view.n;
               row.whole_model     = view.whole_model;
-              row.balls           = instant.ball_loads.size();
+              row.balls           = std::count_if(instant.ball_loads.begin(), instant.ball_loads.end(),
+                                                  [](double q) { return q > 0.0; });
               row.ball_load_sum   = load_sum;
               row.max_pressure    = max_pressure;
               row.net_force       = net_force;
               row.full_max_u_r            = max_abs(full.displacement[0]);
+              row.full_max_u_r_balls      = max_abs(full_balls.displacement[0]);
               row.full_max_stress_grid    = max_abs(full.grid_stress);
               row.full_max_stress_raceway = max_abs(full.raceway_stress);
               row.full_setup      = full_setup;
@@ -847,6 +875,8 @@ namespace fretsim::app
               row.reduced             = reduced.seconds;
               row.reduced_max_u_r     = max_abs(reduced.displacement, 0, 3);
               row.error               = measure(reduced, full, true);
+              row.error_balls         = measure(reduced_static(view, balls_only, area), full_balls, true);
+              row.error_tractions     = measure(reduced_static(view, tractions_only, area), full_tractions, true);
               if (view.whole_model)
                 {
                   Recovered dynamic;
@@ -864,9 +894,11 @@ namespace fretsim::app
                     << 1e6 * row.full_max_u_r << std::setw(14) << 1e6 * row.reduced_max_u_r << ' '
                     << sci(row.error.u_r) << "   " << sci(row.error.u_theta) << ' ' << sci(row.error.u_z)
                     << "   " << sci(row.error.grid_stress) << "   " << sci(row.error.raceway_stress) << "  "
-                    << sci(row.error.raceway_stress_far) << ' ' << sci(row.error.approach) << ' ' << sci(row.error.energy) << "   " << sci(row.run.u_r) << "  "
-                    << sci(row.run.grid_stress) << std::fixed << std::setprecision(3) << std::setw(10)
-                    << full_setup + full.solve_seconds << std::setw(14) << 1e3 * reduced.seconds << "\n"
+                    << sci(row.error.raceway_stress_far) << ' ' << sci(row.error.approach) << ' '
+                    << sci(row.error.energy) << "   " << sci(row.run.u_r) << "  " << sci(row.run.grid_stress)
+                    << ' ' << sci(row.error_balls.u_r) << "      " << sci(row.error_tractions.u_r) << std::fixed
+                    << std::setprecision(3) << std::setw(10) << full_setup + full.solve_seconds << std::setw(14)
+                    << 1e3 * reduced.seconds << "\n"
                     << std::defaultfloat;
             }
         }

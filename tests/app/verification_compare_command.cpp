@@ -367,6 +367,10 @@ TEST(CompareCommand, ReducedModelAgainstFullFeAtTheRunsLoads)
       }
   EXPECT_NEAR(a.at("run_error_u_r"), 1.0, 1e-12);
   EXPECT_NEAR(a.at("run_error_stress_grid"), 1.0, 1e-12);
+  // The parts: A is its balls alone, B its tractions alone (same numbers).
+  EXPECT_EQ(a.at("error_u_r_balls"), a.at("error_u_r"));
+  EXPECT_EQ(b.at("error_u_r_tractions"), b.at("error_u_r"));
+  EXPECT_EQ(b.at("error_stress_grid_tractions"), b.at("error_stress_grid"));
   // A and B are balanced exactly; C nearly (a 4 mm patch on a 40 mm radius).
   EXPECT_LT(a.at("net_force_N"), 1e-6);
   EXPECT_LT(b.at("net_force_N"), 1e-6);

@@ -81,10 +81,13 @@ namespace fretsim::coupling
   /// by implicit Euler in the slip since the last accepted step:
   ///     τ(q) = (τ_n + k_t ds(q)) / (1 + k_t |ds(q)| / (μ p(q))),
   ///     ds = -(u_t(q) - u_t,n)   (the housing's shift relative to the ring).
-  /// Using the same update inside the integrator's residual (with the state of
-  /// the last accepted step frozen) lets the Newton solver see the bristle
-  /// stiffness, so very stiff bristles stay stable at large steps; accept()
-  /// then stores τ_{n+1} = τ(q_{n+1}) exactly as the paper's update after the step.
+  /// accept() applies exactly this update after every accepted step. Within a
+  /// step (add_forces) the integrator sees a smooth approximation instead: a
+  /// sticking cell is a linear spring τ_n + k_t ds capped at μp, a sliding cell
+  /// (|τ_n| ≥ 0.9 μ p_n) keeps its ratio τ/p and direction. The exact law
+  /// inside the residual has a kink at ds = 0 where thousands of cells sit, and
+  /// Newton's method stalled on it; the spring keeps very stiff bristles
+  /// implicit (stable at large steps).
   class InterfaceContact
   {
   public:

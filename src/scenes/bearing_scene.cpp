@@ -9,6 +9,7 @@
 #include "output/results_file.h"
 #include "output/summary.h"
 #include "scenes/figures.h"
+#include "scenes/surface_grid_output.h"
 
 #include <fretsim/contact/dang_van.h>
 #include <fretsim/contact/subsurface_stress.h>
@@ -355,14 +356,7 @@ namespace fretsim::scenes
     auto results_owner =
       std::make_unique<output::ResultsFile>(report.results_file, "bearing_housing", parameters.to_prm());
     auto &results = *results_owner;
-    {
-      std::vector<double> x(grid.nx), y(grid.ny);
-      for (int i = 0; i < grid.nx; ++i)
-        x[i] = grid.x(i);
-      for (int j = 0; j < grid.ny; ++j)
-        y[j] = grid.y(j);
-      results.write_grid(x, y, s.depth_layers);
-    }
+    write_surface_grid(results, grid, s.depth_layers);
     results.set_root_attribute("interface_radius_m", ring.interface_radius);
     results.set_root_attribute("ball_pass_frequency_hz", s.ball_pass_frequency);
     results.set_root_attribute("cage_frequency_hz", coupling::cage_speed(s.run.bearing, s.run.inner_ring_speed) / (2.0 * M_PI));
@@ -406,14 +400,13 @@ namespace fretsim::scenes
       risk.add_step(stress);
       dang_van_seconds += seconds_since(start);
       start = Clock::now();
-      std::vector<double> risk_now(risk.risk().begin(), risk.risk().end());
       double so_far = 0.0;
       for (const double d : risk.risk_max())
         so_far = std::max(so_far, d);
       results.append_series_row({snap.interface_force_x, snap.interface_force_y, snap.ball_force_x, snap.ball_force_y,
                                  snap.inner_displacement_y, snap.contact_fraction, snap.slip_fraction, so_far});
       results.append_snapshot(snap.time, {snap.pressure, snap.shear_x, snap.shear_y, &snap.effective_friction,
-                                          &risk_now, &snap.ball_angles, &snap.ball_loads, &snap.q});
+                                          &risk.risk(), &snap.ball_angles, &snap.ball_loads, &snap.q});
       results.flush();
       for (int j = 0; j < grid.ny; ++j)
         for (int i = grid.nx / 2 + 1; i < grid.nx; ++i) // θ in (180°, 360°): the unloaded half

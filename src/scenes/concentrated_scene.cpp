@@ -1,5 +1,7 @@
 #include "scenes/concentrated_scene.h"
 
+#include "scenes/surface_grid_output.h"
+
 #include "app/build_info.h"
 #include "app/progress.h"
 #include "app/run_control.h"
@@ -377,12 +379,7 @@ namespace fretsim::scenes
     auto results_owner =
       std::make_unique<output::ResultsFile>(report.results_file, "concentrated", parameters.to_prm());
     auto &results = *results_owner;
-    std::vector<double> x(grid.nx), y(grid.ny);
-    for (int i = 0; i < grid.nx; ++i)
-      x[i] = grid.x(i);
-    for (int j = 0; j < grid.ny; ++j)
-      y[j] = grid.y(j);
-    results.write_grid(x, y, s.depth_layers);
+    write_surface_grid(results, grid, s.depth_layers);
     results.set_root_attribute("contact_radius_m", contact_radius);
     for (const auto &[name, unit] : std::vector<std::pair<std::string, std::string>>{
            {"time", "s"}, {"cycle", "1"}, {"displacement_x", "m"}, {"displacement_y", "m"},

@@ -42,3 +42,18 @@ if(TARGET test_fem_unit_iterative_solvers)
   set_tests_properties(fem.mpi_np2.unit_iterative_solvers PROPERTIES
     LABELS unit PROCESSORS 2 ENVIRONMENT "${fretsim_mpi_env}" TIMEOUT 300)
 endif()
+
+# The Winkler foundation: distributed over two ranks against each rank alone.
+if(TARGET test_fem_verification_winkler_foundation)
+  add_test(NAME fem.mpi_np2.verification_winkler_foundation
+    COMMAND ${MPIEXEC_EXECUTABLE} ${MPIEXEC_NUMPROC_FLAG} 2 ${MPIEXEC_PREFLAGS}
+            $<TARGET_FILE:test_fem_verification_winkler_foundation>
+            --gtest_filter=WinklerFoundation.SameOnOneAndTwoRanks ${MPIEXEC_POSTFLAGS})
+  set_tests_properties(fem.mpi_np2.verification_winkler_foundation PROPERTIES
+    LABELS verification PROCESSORS 2 ENVIRONMENT "${fretsim_mpi_env}" TIMEOUT 300)
+endif()
+
+# The reduced Winkler solve against the full one needs a Craig–Bampton basis.
+if(TARGET test_fem_verification_reduced_winkler)
+  target_link_libraries(test_fem_verification_reduced_winkler PRIVATE fretsim_reduction)
+endif()

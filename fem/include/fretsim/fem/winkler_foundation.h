@@ -1,0 +1,145 @@
+#pragma once
+// A body on a unilateral Winkler foundation laid on a contact surface grid:
+// the reference for the housing interface of a bearing_housing run (the
+// co-simulation's p_c = k_n max(δ_fit + u_r,c, 0), coupling/ring_coupling.h),
+// solved statically on the full FE model or on a reduced model.
+//
+// Per grid cell c (area A, centre sampled by the grid map's H, as
+// SurfaceGridMap does), n_c the direction in which the pressure pushes on the
+// body (-e_r on an outer surface, +e_r on a bore) and w_c = Hᵀ n_c:
+//
+//   penetration  d_c = δ_fit - n_c · (H u)_c          (δ_fit + u_r on an outer surface)
+//   pressure     p_c = k_n max(d_c, 0)
+//   equilibrium  (K - σM) u = f + Σ_c A p_c w_c
+//
+// u minimises the strictly convex Φ(u) = ½ uᵀ(K - σM)u - fᵀu + ½ Σ_c k_n A max(d_c, 0)²
+// (reported as `energy`): the solution is unique, and a reduced model's Φ at
+// its own solution can only fall towards the full one as its basis grows.
+//
+// Active-set iteration: with the set of penetrating cells fixed the problem
+// is linear,
+//   (K - σM + Σ_{c∈active} k_n A w_c w_cᵀ) u = f + Σ_{c∈active} k_n A δ_fit w_c,
+// solved by a Cholesky factorisation; the cells whose d_c > 0 form the next
+// set, until it repeats (converged) or an earlier set comes back (cycling) or
+// the iteration cap is reached (both: std::runtime_error naming the problem).
+// The first set is the caller's guess, or every cell.
+//
+// The shift σ = -(2π f_s)² (f_s = 1 Hz by default) holds what radial springs
+// do not: the rotation about the axis and the axial translation. Neither
+// moves any cell radially, so neither changes the pressure; radially it adds
+// the stiffness (2π f_s)² M, a relative (f_s / f_1)² ~ 1e-12 of the
+// foundation-supported ring's lowest frequency f_1 (~ 10⁵ Hz at k_n = 10¹⁵).
+// No inertia relief (unlike ShiftedStaticSolver's option): here the
+// foundation, not the ring's inertia, carries the net load, as the housing
+// does in the run; relieving the load's resultant would take the very force
+// the pressure has to carry out of it. Radial ball loads have no axial force
+// and no moment about the axis, so the two shift-held motions are not loaded
+// beyond round-off.
+//
+// Collective over the model's ranks; the results are the same on every rank.
+// No deal.II or PETSc type appears here.
+#include <fretsim/fem/elastic_model.h>
+#include <fretsim/fem/surface_grid_map.h>
+
+#include <memory>
+#include <vector>
+
+namespace fretsim::fem
+{
+  /// The foundation (SI).
+  struct WinklerLayer
+  {
+    double normal_stiffness    = 0.0; ///< k_n > 0 [Pa/m]
+    double radial_interference = 0.0; ///< δ_fit: > 0 interference fit, < 0 clearance [m]
+  };
+
+  struct WinklerSettings
+  {
+    double       shift_hz       = 1.0; ///< f_s of σ = -(2π f_s)², ≥ 0 (0: the body must be supported)
+    unsigned int max_iterations = 50;  ///< linear solves before the active set is declared not converged
+  };
+
+  /// The grid side of a solution, from either model.
+  struct WinklerGridSolution
+  {
+    std::vector<double>        pressure;    ///< p_c [Pa], per grid cell (x fastest)
+    std::vector<double>        penetration; ///< d_c [m]; ≤ 0 where the cell is open
+    std::vector<unsigned char> active;      ///< 1 where d_c > 0 (the converged set)
+    std::size_t                active_cells = 0;
+    unsigned int               iterations   = 0; ///< linear solves (the last one confirms the set)
+    double                     energy       = 0.0; ///< Φ at the solution [J]
+    double                     seconds      = 0.0; ///< the whole solve, load assembly included
+    double                     factorisation_seconds = 0.0; ///< summed over the iterations
+
+    double contact_fraction() const;
+    double peak_pressure() const;
+  };
+
+  /// The full FE body. The model and map must outlive the solver.
+  class WinklerFoundationSolver
+  {
+  public:
+    /// Assembles M if the model has not yet and keeps K - σM. Throws
+    /// std::invalid_argument for k_n ≤ 0, a non-finite δ_fit, a negative
+    /// shift, or a map made on another model.
+    WinklerFoundationSolver(ElasticModel &model, const SurfaceGridMap &map, const WinklerLayer &layer,
+                            const WinklerSettings &settings = {});
+    ~WinklerFoundationSolver();
+    WinklerFoundationSolver(const WinklerFoundationSolver &)            = delete;
+    WinklerFoundationSolver &operator=(const WinklerFoundationSolver &) = delete;
+
+    struct Solution
+    {
+      WinklerGridSolution grid;
+      DisplacementField   displacement;
+    };
+
+    /// Solves for `load` (the body's own loads, e.g. balls). `initial_active`:
+    /// a first guess of the contact set, one entry per grid cell, or empty
+    /// (every cell). Collective.
+    Solution solve(const StaticLoad &load, const std::vector<unsigned char> &initial_active = {});
+
+    double shift() const;         ///< σ [1/s²]
+    double setup_seconds() const; ///< mass (if assembled here) and K - σM
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> impl;
+  };
+
+  /// The same problem on a reduced model u = T q (plain arrays, dense
+  /// Cholesky): (K_r - σM_r + Σ_{c∈active} k_n A g_c g_cᵀ) q = g + Σ_{c∈active} k_n A δ_fit g_c,
+  /// with g_c the row giving the cell's outward motion into the foundation
+  /// (d_c = δ_fit + g_c·q; for a ring's outer surface the u_r row of the
+  /// interface grid operator H T) and g the generalised load Tᵀf.
+  class ReducedWinklerSolver
+  {
+  public:
+    /// `shifted`: K_r - σM_r, n × n row-major (symmetric positive definite);
+    /// `penetration_rows`: [cell][n] row-major [m per unit q]; `cell_area` [m²].
+    /// Throws std::invalid_argument for inconsistent sizes, k_n ≤ 0 or a
+    /// non-finite δ_fit.
+    ReducedWinklerSolver(std::size_t n, const std::vector<double> &shifted, const std::vector<double> &penetration_rows,
+                         double cell_area, const WinklerLayer &layer, unsigned int max_iterations = 50);
+    ~ReducedWinklerSolver();
+    ReducedWinklerSolver(ReducedWinklerSolver &&) noexcept;
+    ReducedWinklerSolver &operator=(ReducedWinklerSolver &&) noexcept;
+
+    struct Solution
+    {
+      WinklerGridSolution grid;
+      std::vector<double> q;
+    };
+
+    /// `generalised_load`: g [n]; `initial_active` as for the full solver.
+    Solution solve(const std::vector<double> &generalised_load,
+                   const std::vector<unsigned char> &initial_active = {}) const;
+
+    std::size_t n() const;
+    std::size_t n_cells() const;
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> impl;
+  };
+} // namespace fretsim::fem

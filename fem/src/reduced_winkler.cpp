@@ -71,8 +71,9 @@ namespace fretsim::fem
     const std::size_t                       cells  = n_cells();
 
     Solution        solution;
-    Eigen::VectorXd q;
-    const auto      solve_with = [&](const std::vector<unsigned char> &active) {
+    Eigen::VectorXd q, candidate;
+    ActiveSetSolver callbacks;
+    callbacks.solve = [&](const std::vector<unsigned char> &active) {
       const auto factor_start = Clock::now();
       std::vector<Eigen::Index> in_contact;
       for (std::size_t c = 0; c < cells; ++c)
@@ -82,7 +83,8 @@ namespace fretsim::fem
       for (std::size_t k = 0; k < in_contact.size(); ++k)
         contact_rows.row(static_cast<Eigen::Index>(k)) = impl->rows.row(in_contact[k]);
       Eigen::MatrixXd matrix = impl->shifted;
-      matrix.selfadjointView<Eigen::Lower>().rankUpdate(contact_rows.transpose(), k_area);
+      if (!in_contact.empty()) // Eigen's product blocking divides by the inner size
+        matrix.selfadjointView<Eigen::Lower>().rankUpdate(contact_rows.transpose(), k_area);
       const Eigen::LLT<Eigen::MatrixXd, Eigen::Lower> factor(matrix);
       if (factor.info() != Eigen::Success)
         throw std::runtime_error(who + ": K_r - sigma M_r + the foundation is not positive definite");
@@ -90,11 +92,17 @@ namespace fretsim::fem
       Eigen::VectorXd rhs = g;
       if (fit != 0.0 && !in_contact.empty())
         rhs += (k_area * fit) * (contact_rows.transpose() * Eigen::VectorXd::Ones(contact_rows.rows()));
-      q                                   = factor.solve(rhs);
-      const Eigen::VectorXd penetration   = (impl->rows * q).array() + fit;
+      candidate                         = factor.solve(rhs);
+      const Eigen::VectorXd penetration = (impl->rows * candidate).array() + fit;
       return std::vector<double>(penetration.data(), penetration.data() + penetration.size());
     };
-    iterate_active_set(cells, initial_active, impl->max_iterations, who, solve_with, solution.grid);
+    callbacks.accept = [&](double t) {
+      if (q.size() == 0 || t == 1.0)
+        q = candidate;
+      else
+        q += t * (candidate - q);
+    };
+    iterate_active_set(cells, initial_active, impl->max_iterations, k_area, who, callbacks, solution.grid);
 
     auto &grid = solution.grid;
     grid.pressure.resize(cells);

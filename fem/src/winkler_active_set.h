@@ -9,16 +9,32 @@
 
 namespace fretsim::fem
 {
-  /// Solves with the cells of a set in contact and returns every cell's
-  /// penetration d_c [m] (the same on every rank).
-  using SolveWithActiveSet = std::function<std::vector<double>(const std::vector<unsigned char> &active)>;
+  /// The solver's side of the iteration. `solve` solves the linear problem
+  /// with the cells of a set in contact, keeps that solution u_N as its
+  /// candidate and returns every cell's penetration d_c(u_N) [m] (the same on
+  /// every rank); `accept(t)` moves the current state to u + t (u_N - u) (the
+  /// first call, with t = 1, makes u_N the current state).
+  struct ActiveSetSolver
+  {
+    std::function<std::vector<double>(const std::vector<unsigned char> &active)> solve;
+    std::function<void(double t)>                                                accept;
+  };
 
-  /// Iterates from `initial` (empty: every cell) until the set of cells with
-  /// d_c > 0 repeats; fills penetration, active, active_cells and iterations
-  /// of `result`. Throws std::runtime_error, naming `solver`, if an earlier set
-  /// comes back or `max_iterations` solves do not settle it.
+  /// Semismooth Newton on Φ: from the solution for `initial` (empty: every
+  /// cell), each step solves with the cells that penetrate at the current
+  /// state and moves to that solution (the plain active-set iteration) if
+  /// that lowers Φ, else by the step t ∈ (0, 1) that minimises Φ along the
+  /// way (exactly: Φ is piecewise quadratic there); overshooting full steps
+  /// are what lets the plain iteration cycle. Φ falls at every step, so no
+  /// state comes back. Converged when a full
+  /// step's solution penetrates exactly where it was assumed to (the linear
+  /// solution is then the solution). `cell_stiffness` = k_n A [N/m]. Fills
+  /// penetration, active, active_cells and iterations (linear solves) of
+  /// `result`. Throws std::runtime_error, naming `solver`, after
+  /// `max_iterations` solves without convergence.
   void iterate_active_set(std::size_t n_cells, const std::vector<unsigned char> &initial, unsigned int max_iterations,
-                          const std::string &solver, const SolveWithActiveSet &solve, WinklerGridSolution &result);
+                          double cell_stiffness, const std::string &solver, const ActiveSetSolver &callbacks,
+                          WinklerGridSolution &result);
 
   /// Throws std::invalid_argument (naming `solver`) unless k_n > 0 is finite
   /// and δ_fit is finite.

@@ -117,14 +117,17 @@ namespace fretsim::fem
 
     const dealii::PETScWrappers::MPI::Vector f = assemble_load(model, load);
     dealii::PETScWrappers::MPI::Vector       rhs(model.owned_dofs, model.communicator());
-    dealii::PETScWrappers::MPI::Vector       u(model.owned_dofs, model.communicator());
+    dealii::PETScWrappers::MPI::Vector       u(model.owned_dofs, model.communicator()); // the current state
+    dealii::PETScWrappers::MPI::Vector       candidate(model.owned_dofs, model.communicator());
+    bool                                     have_state = false;
     std::vector<dealii::types::global_dof_index> dof_indices(n);
     std::vector<double>                          w;
     dealii::FullMatrix<double>                   cell_matrix(n, n);
     dealii::Vector<double>                       cell_rhs(n);
 
     WinklerGridSolution grid;
-    const auto solve_with = [&](const std::vector<unsigned char> &active) {
+    ActiveSetSolver     callbacks;
+    callbacks.solve = [&](const std::vector<unsigned char> &active) {
       const auto factor_start = Clock::now();
       check_petsc(MatCopy(impl->shifted, system, SAME_NONZERO_PATTERN), "MatCopy");
       rhs = f;
@@ -146,20 +149,28 @@ namespace fretsim::fem
       check_petsc(KSPSetOperators(impl->ksp, system, system), "KSPSetOperators");
       check_petsc(KSPSetUp(impl->ksp), "KSPSetUp"); // the numeric factorisation
       grid.factorisation_seconds += seconds_since(factor_start);
-      check_petsc(KSPSolve(impl->ksp, static_cast<const Vec &>(rhs), static_cast<const Vec &>(u)), "KSPSolve");
+      check_petsc(KSPSolve(impl->ksp, static_cast<const Vec &>(rhs), static_cast<const Vec &>(candidate)), "KSPSolve");
       KSPConvergedReason reason;
       check_petsc(KSPGetConvergedReason(impl->ksp, &reason), "KSPGetConvergedReason");
       if (reason < 0)
         throw std::runtime_error(who + ": the factorised solve failed (PETSc reason " +
                                  std::to_string(static_cast<int>(reason)) + ")");
-      const GridDisplacements at = impl->map->interpolate(impl->model->field_from_vector(static_cast<const Vec &>(u)));
+      const GridDisplacements at =
+        impl->map->interpolate(impl->model->field_from_vector(static_cast<const Vec &>(candidate)));
       // d = δ_fit - n·u with n = sign e_r.
       std::vector<double> penetration(cells);
       for (std::size_t c = 0; c < cells; ++c)
         penetration[c] = fit - sign * at.u_r[c];
       return penetration;
     };
-    iterate_active_set(cells, initial_active, impl->settings.max_iterations, who, solve_with, grid);
+    callbacks.accept = [&](double t) {
+      if (!have_state || t == 1.0)
+        u = candidate;
+      else
+        u.sadd(1.0 - t, t, candidate);
+      have_state = true;
+    };
+    iterate_active_set(cells, initial_active, impl->settings.max_iterations, k_area, who, callbacks, grid);
 
     grid.pressure.resize(cells);
     double foundation = 0.0;

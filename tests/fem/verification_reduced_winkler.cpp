@@ -145,6 +145,10 @@ TEST(ReducedWinkler, ConvergesToTheFullSolutionAsTheInterfaceModesGrow)
               rows[c * n + a] = ops.displacement[(c * 3 + 0) * n_full + columns[a]]; // u_r
           const fem::ReducedWinklerSolver reduced_solver(n, shifted, rows, grid.cell_area(), layer);
           const fem::WinklerGridSolution  reduced = reduced_solver.solve(g).grid;
+          // No load: the all-in-contact guess opens, and the empty set is solved too.
+          const fem::WinklerGridSolution unloaded = reduced_solver.solve(std::vector<double>(n, 0.0)).grid;
+          EXPECT_EQ(unloaded.active_cells, 0u);
+          EXPECT_EQ(unloaded.peak_pressure(), 0.0);
           double                          error   = 0.0;
           for (std::size_t c = 0; c < grid.size(); ++c)
             error = std::max(error, std::abs(reduced.pressure[c] - full.pressure[c]));

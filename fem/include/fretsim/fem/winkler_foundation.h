@@ -20,9 +20,15 @@
 // is linear,
 //   (K - σM + Σ_{c∈active} k_n A w_c w_cᵀ) u = f + Σ_{c∈active} k_n A δ_fit w_c,
 // solved by a Cholesky factorisation; the cells whose d_c > 0 form the next
-// set, until it repeats (converged) or an earlier set comes back (cycling) or
-// the iteration cap is reached (both: std::runtime_error naming the problem).
-// The first set is the caller's guess, or every cell.
+// set, until a solution penetrates exactly where it was assumed to (then it
+// is the solution). The first set is the caller's guess, or every cell. The
+// plain iteration (always moving to the new linear solution) can cycle
+// between sets — it did on a small ring under two balls — so a step that
+// would not lower Φ moves only as far towards the new solution as lowers Φ
+// most (an exact line search of the piecewise quadratic Φ, computed from
+// per-cell quantities alone; semismooth Newton with line search): Φ falls at
+// every step and no state comes back. Past the iteration cap:
+// std::runtime_error naming the solver.
 //
 // The shift σ = -(2π f_s)² (f_s = 1 Hz by default) holds what radial springs
 // do not: the rotation about the axis and the axial translation. Neither
@@ -66,7 +72,7 @@ namespace fretsim::fem
     std::vector<double>        penetration; ///< d_c [m]; ≤ 0 where the cell is open
     std::vector<unsigned char> active;      ///< 1 where d_c > 0 (the converged set)
     std::size_t                active_cells = 0;
-    unsigned int               iterations   = 0; ///< linear solves (the last one confirms the set)
+    unsigned int               iterations   = 0; ///< linear solves (factorisations); the last one confirms the set
     double                     energy       = 0.0; ///< Φ at the solution [J]
     double                     seconds      = 0.0; ///< the whole solve, load assembly included
     double                     factorisation_seconds = 0.0; ///< summed over the iterations

@@ -11,6 +11,7 @@
 #include <fretsim/fem/stress_sampler.h>
 #include <fretsim/fem/surface_grid_map.h>
 #include <fretsim/fem/surface_point_map.h>
+#include <fretsim/fem/winkler_foundation.h>
 #include <fretsim/reduction/craig_bampton.h>
 #include <fretsim/reduction/reduced_model.h>
 
@@ -26,6 +27,7 @@
 #include <ostream>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
 
 namespace fretsim::app
 {
@@ -66,6 +68,7 @@ namespace fretsim::app
       std::vector<double> modal_coordinates;             ///< [nt][n]
       std::size_t         n_snapshots = 0, n_balls = 0, n_cells = 0, n_coordinates = 0;
       double              ball_pass_frequency_hz = 0.0;  ///< 0 if the file has none
+      bool                other_model = false;           ///< its q has another size than the model's
     };
 
     /// One compared instant: the loads of a snapshot.
@@ -373,6 +376,61 @@ namespace fretsim::app
       return e;
     }
 
+    /// The ring on the scene's Winkler foundation under the instant's ball
+    /// loads alone: the full FE pressure against this truncation's (NaN where
+    /// a solve failed, or for columns of the whole model only).
+    struct WinklerComparison
+    {
+      double normal_stiffness = 0.0, radial_interference = 0.0; ///< [Pa/m], [m]
+      double full_peak = not_measured, reduced_peak = not_measured; ///< [Pa]
+      /// max |p_r - p| / max p and ‖p_r - p‖₂ / ‖p‖₂ over the grid's cells.
+      double error_max = not_measured, error_l2 = not_measured;
+      /// The run's own (dynamic) pressure against the full Winkler solution,
+      /// and against this model's static one (the whole model only).
+      double run_error_max = not_measured, run_error_l2 = not_measured, run_vs_reduced_max = not_measured;
+      double full_contact = not_measured, reduced_contact = not_measured; ///< contact fractions
+      double full_iterations = not_measured, reduced_iterations = not_measured; ///< linear solves
+      double full_seconds = not_measured, reduced_seconds = not_measured;
+    };
+
+    /// max |a - b| / max |b| and ‖a - b‖₂ / ‖b‖₂ (NaN if b is zero or empty).
+    std::pair<double, double> field_errors(const std::vector<double> &a, const std::vector<double> &b)
+    {
+      double difference = 0.0, scale = 0.0, squared = 0.0, norm = 0.0;
+      for (std::size_t k = 0; k < b.size(); ++k)
+        {
+          difference = std::max(difference, std::abs(a[k] - b[k]));
+          scale      = std::max(scale, std::abs(b[k]));
+          squared += (a[k] - b[k]) * (a[k] - b[k]);
+          norm += b[k] * b[k];
+        }
+      if (!(scale > 0.0))
+        return {not_measured, not_measured};
+      return {difference / scale, std::sqrt(squared / norm)};
+    }
+
+    /// The pressure along the circumference in the grid's axial middle (the
+    /// mean of the two middle rows when ny is even) [Pa].
+    std::vector<double> mid_row(const fem::CylinderGrid &grid, const std::vector<double> &field)
+    {
+      std::vector<double> row(static_cast<std::size_t>(grid.nx), 0.0);
+      const int           upper = grid.ny / 2, lower = grid.ny % 2 == 0 ? upper - 1 : upper;
+      for (int i = 0; i < grid.nx; ++i)
+        row[static_cast<std::size_t>(i)] = 0.5 * (field[static_cast<std::size_t>(lower * grid.nx + i)] +
+                                                  field[static_cast<std::size_t>(upper * grid.nx + i)]);
+      return row;
+    }
+
+    /// What compare_pressure.csv holds: the profiles at one instant.
+    struct PressureProfile
+    {
+      std::size_t                      instant = 0, snapshot = 0;
+      double                           time = 0.0, full_peak = -1.0;
+      std::vector<double>              full, run; ///< [nx] [Pa]
+      std::vector<std::string>         reduced_names;
+      std::vector<std::vector<double>> reduced; ///< per truncation, [nx] [Pa] (empty: the solve failed)
+    };
+
     struct Row
     {
       std::size_t  instant = 0, snapshot = 0;
@@ -391,6 +449,7 @@ namespace fretsim::app
       double       full_max_u_r_balls = 0.0; ///< of the balls alone: over full_max_u_r, how much the parts cancel
       Errors       error, run;
       Errors       error_balls, error_tractions; ///< the balls alone, the interface tractions alone
+      WinklerComparison winkler;
     };
 
     double max_abs(const std::vector<double> &values, std::size_t offset = 0, std::size_t stride = 1)
@@ -438,10 +497,12 @@ namespace fretsim::app
           if (dims != std::vector<std::size_t>{r.n_snapshots, r.n_balls})
             reject("has /fields/ball_load of another shape than /fields/ball_angle");
           r.modal_coordinates = ResultsFile::read_dataset(in.results_file, "/fields/modal_coordinates", &dims);
-          if (dims.size() != 2 || dims[0] != r.n_snapshots || dims[1] != model.matrices.size())
-            reject("holds modal coordinates of another size than the model file's " +
-                   std::to_string(model.matrices.size()) + ": the run used another model");
+          if (dims.size() != 2 || dims[0] != r.n_snapshots || dims[1] == 0)
+            reject("has /fields/modal_coordinates of a shape other than [snapshots, coordinates]");
+          // A run with another model of the same ring (e.g. a larger n_cc)
+          // still gives loads and pressures to compare; only its q is not.
           r.n_coordinates = dims[1];
+          r.other_model   = dims[1] != model.matrices.size();
         }
       catch (const InputError &)
         {
@@ -512,7 +573,12 @@ namespace fretsim::app
              "run_error_stress_raceway,run_error_stress_raceway_far,run_error_ball_approach,full_max_u_r_m,"
              "reduced_max_u_r_m,full_max_stress_grid_Pa,full_max_stress_raceway_Pa,full_max_u_r_balls_m,"
              "error_u_r_balls,error_stress_grid_balls,error_stress_raceway_balls,error_energy_balls,"
-             "error_u_r_tractions,error_stress_grid_tractions,error_stress_raceway_tractions,error_energy_tractions\n";
+             "error_u_r_tractions,error_stress_grid_tractions,error_stress_raceway_tractions,error_energy_tractions,"
+             "winkler_normal_stiffness_Pa_per_m,winkler_radial_interference_m,winkler_full_peak_pressure_Pa,"
+             "winkler_reduced_peak_pressure_Pa,winkler_error_pressure_max,winkler_error_pressure_l2,"
+             "winkler_full_contact_fraction,winkler_reduced_contact_fraction,winkler_full_iterations,"
+             "winkler_reduced_iterations,winkler_full_s,winkler_reduced_s,winkler_run_error_pressure_max,"
+             "winkler_run_error_pressure_l2,winkler_run_vs_reduced_error_pressure_max\n";
       csv << std::setprecision(10);
       for (const Row &r : rows)
         {
@@ -530,6 +596,35 @@ namespace fretsim::app
               << r.full_max_stress_raceway << ',' << r.full_max_u_r_balls;
           for (const Errors *e : {&r.error_balls, &r.error_tractions})
             csv << ',' << e->u_r << ',' << e->grid_stress << ',' << e->raceway_stress << ',' << e->energy;
+          const WinklerComparison &w = r.winkler;
+          for (const double v : {w.normal_stiffness, w.radial_interference, w.full_peak, w.reduced_peak, w.error_max,
+                                 w.error_l2, w.full_contact, w.reduced_contact, w.full_iterations,
+                                 w.reduced_iterations, w.full_seconds, w.reduced_seconds, w.run_error_max,
+                                 w.run_error_l2, w.run_vs_reduced_max})
+            csv << ',' << v;
+          csv << '\n';
+        }
+      if (!csv)
+        throw std::runtime_error("cannot write " + path);
+    }
+
+    /// compare_pressure.csv: one line per grid column along the circumference.
+    void write_profile(const std::string &path, const fem::CylinderGrid &grid, const PressureProfile &profile)
+    {
+      std::ofstream csv(path);
+      csv << "# pressure on the Winkler foundation in the interface grid's axial middle at instant " << profile.instant
+          << " (snapshot " << profile.snapshot << ", t = " << std::setprecision(10) << profile.time
+          << " s), the one with the highest full FE peak\n";
+      csv << "theta_deg,full_Pa,run_Pa";
+      for (const std::string &name : profile.reduced_names)
+        csv << ",reduced_" << name << "_Pa";
+      csv << '\n';
+      for (std::size_t i = 0; i < profile.full.size(); ++i)
+        {
+          csv << grid.x(static_cast<int>(i)) / grid.radius * 180.0 / M_PI << ',' << profile.full[i] << ','
+              << profile.run[i];
+          for (const auto &reduced : profile.reduced)
+            csv << ',' << (reduced.empty() ? not_measured : reduced[i]);
           csv << '\n';
         }
       if (!csv)
@@ -584,6 +679,8 @@ namespace fretsim::app
     for (const unsigned int c : in.constraint_modes)
       if (c == 0)
         p.reject("Compare/Characteristic constraint modes", "expected counts >= 1, got 0");
+    in.normal_stiffness    = p.get_double("Interface/Normal stiffness");
+    in.radial_interference = p.get_double("Interface/Radial interference");
     return in;
   }
 
@@ -595,6 +692,12 @@ namespace fretsim::app
     };
     if (in.instants == 0)
       reject("Compare/Instants", "must be at least 1");
+    if (!(in.normal_stiffness > 0.0) || !std::isfinite(in.normal_stiffness))
+      reject("Interface/Normal stiffness",
+             "must be a finite k_n > 0 Pa/m (the Winkler layer the pressure is compared on), got " +
+               std::to_string(in.normal_stiffness));
+    if (!std::isfinite(in.radial_interference))
+      reject("Interface/Radial interference", "must be finite");
 
     // ---- Everything is read and checked before MPI starts and before any file is written.
     const SceneParameters    ring_parameters = read_ring_housing_parameters(in.reduction_config, {});
@@ -676,8 +779,9 @@ namespace fretsim::app
         instant.tractions.pressure = cells(run.pressure);
         instant.tractions.shear_x  = cells(run.shear_x);
         instant.tractions.shear_y  = cells(run.shear_y);
-        instant.run_q.assign(run.modal_coordinates.begin() + k * run.n_coordinates,
-                             run.modal_coordinates.begin() + (k + 1) * run.n_coordinates);
+        if (!run.other_model)
+          instant.run_q.assign(run.modal_coordinates.begin() + k * run.n_coordinates,
+                               run.modal_coordinates.begin() + (k + 1) * run.n_coordinates);
         instants.push_back(std::move(instant));
       }
 
@@ -700,6 +804,9 @@ namespace fretsim::app
       mpi = std::make_unique<fem::ParallelEnvironment>();
     const bool root = fem::ParallelEnvironment::rank() == 0;
     std::vector<Row> rows;
+    PressureProfile          profile;
+    std::vector<std::string> winkler_notes; // failed Winkler solves, printed after the table
+    double                   winkler_setup = 0.0;
     {
       const auto setup_start = Clock::now();
       auto       mesh        = std::make_shared<const fem::Mesh>(build_ring_housing_mesh(body, in.reduction_config));
@@ -725,6 +832,26 @@ namespace fretsim::app
       for (const auto &[m, c] : truncations)
         views.push_back(truncate(model, m, c, raceway_points, sigma));
 
+      // The Winkler foundation: the full ring (K - σM kept, refactorised per
+      // active set) and every truncation (dense, from its u_r rows), with the
+      // static solves' shift.
+      const fem::WinklerLayer layer{in.normal_stiffness, in.radial_interference};
+      fem::WinklerSettings    winkler_settings;
+      winkler_settings.shift_hz = reduction::ReductionSettings{}.static_shift_hz;
+      fem::WinklerFoundationSolver           winkler(fe, map, layer, winkler_settings);
+      std::vector<fem::ReducedWinklerSolver> reduced_winklers;
+      winkler_setup = winkler.setup_seconds();
+      for (const Truncation &view : views)
+        {
+          std::vector<double> radial(grid.size() * view.n);
+          for (std::size_t c = 0; c < grid.size(); ++c)
+            std::copy_n(view.grid_displacement.begin() + static_cast<std::ptrdiff_t>(c * 3 * view.n), view.n,
+                        radial.begin() + static_cast<std::ptrdiff_t>(c * view.n));
+          reduced_winklers.emplace_back(view.n, view.shifted, radial, grid.cell_area(), layer);
+          profile.reduced_names.push_back("m" + std::to_string(view.fixed_interface) + "_ncc" +
+                                          std::to_string(view.constraint));
+        }
+
       if (root)
         {
           out << "model:        " << in.model_file << ": " << matrices.size() << " coordinates (" << matrices.n_constraint
@@ -743,6 +870,9 @@ namespace fretsim::app
           for (const auto &i : instants)
             out << ' ' << i.snapshot;
           out << "\n";
+          if (run.other_model)
+            out << "note:         the run used a model of " << run.n_coordinates << " coordinates, not this one's "
+                << matrices.size() << ": its loads and pressures are compared, its own q is not\n";
           if (!dropped_fixed.empty())
             out << "note:         m' = " << format_list(dropped_fixed) << " left out (the model has m = "
                 << matrices.n_modal << ")\n";
@@ -850,6 +980,62 @@ namespace fretsim::app
             load_sum += q;
           for (const double p : instant.tractions.pressure)
             max_pressure = std::max(max_pressure, p);
+
+          // The ring on the Winkler foundation under the balls alone: each
+          // truncation first (the whole model's contact set is the full
+          // solve's first guess), then the full FE ring.
+          const auto where = [&](const Truncation &view) {
+            return "instant " + std::to_string(i) + ", m' = " + std::to_string(view.fixed_interface) +
+                   ", n_cc' = " + std::to_string(view.constraint) + ": ";
+          };
+          std::vector<std::unique_ptr<fem::WinklerGridSolution>> reduced_winkler(views.size());
+          std::vector<unsigned char>                             first_guess;
+          for (std::size_t v = 0; v < views.size(); ++v)
+            {
+              std::vector<double> g(views[v].n, 0.0);
+              for (std::size_t b = 0; b < instant.ball_angles.size(); ++b)
+                add_ball_row(views[v], instant.ball_angles[b], instant.ball_loads[b], g);
+              try
+                {
+                  reduced_winkler[v] = std::make_unique<fem::WinklerGridSolution>(reduced_winklers[v].solve(g).grid);
+                  if (views[v].whole_model)
+                    first_guess = reduced_winkler[v]->active;
+                }
+              catch (const std::runtime_error &error)
+                {
+                  winkler_notes.push_back(where(views[v]) + error.what());
+                }
+            }
+          std::unique_ptr<fem::WinklerGridSolution> full_winkler;
+          {
+            fem::StaticLoad balls;
+            for (std::size_t b = 0; b < unit_balls.size(); ++b)
+              {
+                balls.ball_loads.push_back(unit_balls[b]);
+                balls.ball_loads.back().force = instant.ball_loads[b];
+              }
+            try
+              {
+                full_winkler = std::make_unique<fem::WinklerGridSolution>(winkler.solve(balls, first_guess).grid);
+              }
+            catch (const std::runtime_error &error)
+              {
+                winkler_notes.push_back("instant " + std::to_string(i) + ", full FE: " + error.what());
+              }
+          }
+          if (full_winkler && full_winkler->peak_pressure() > profile.full_peak)
+            {
+              profile.instant   = i;
+              profile.snapshot  = instant.snapshot;
+              profile.time      = instant.time;
+              profile.full_peak = full_winkler->peak_pressure();
+              profile.full      = mid_row(grid, full_winkler->pressure);
+              profile.run       = mid_row(grid, instant.tractions.pressure);
+              profile.reduced.assign(views.size(), {});
+              for (std::size_t v = 0; v < views.size(); ++v)
+                if (reduced_winkler[v])
+                  profile.reduced[v] = mid_row(grid, reduced_winkler[v]->pressure);
+            }
           for (const Truncation &view : views)
             {
               Row row;
@@ -877,7 +1063,34 @@ namespace fretsim::app
               row.error               = measure(reduced, full, true);
               row.error_balls         = measure(reduced_static(view, balls_only, area), full_balls, true);
               row.error_tractions     = measure(reduced_static(view, tractions_only, area), full_tractions, true);
-              if (view.whole_model)
+              {
+                auto             &w = row.winkler;
+                const auto       *reduced_p = reduced_winkler[static_cast<std::size_t>(&view - views.data())].get();
+                w.normal_stiffness    = layer.normal_stiffness;
+                w.radial_interference = layer.radial_interference;
+                if (full_winkler)
+                  {
+                    w.full_peak       = full_winkler->peak_pressure();
+                    w.full_contact    = full_winkler->contact_fraction();
+                    w.full_iterations = full_winkler->iterations;
+                    w.full_seconds    = full_winkler->seconds;
+                    if (view.whole_model)
+                      std::tie(w.run_error_max, w.run_error_l2) =
+                        field_errors(instant.tractions.pressure, full_winkler->pressure);
+                  }
+                if (reduced_p)
+                  {
+                    w.reduced_peak       = reduced_p->peak_pressure();
+                    w.reduced_contact    = reduced_p->contact_fraction();
+                    w.reduced_iterations = reduced_p->iterations;
+                    w.reduced_seconds    = reduced_p->seconds;
+                    if (full_winkler)
+                      std::tie(w.error_max, w.error_l2) = field_errors(reduced_p->pressure, full_winkler->pressure);
+                    if (view.whole_model)
+                      w.run_vs_reduced_max = field_errors(instant.tractions.pressure, reduced_p->pressure).first;
+                  }
+              }
+              if (view.whole_model && !instant.run_q.empty())
                 {
                   Recovered dynamic;
                   dynamic.q = instant.run_q;
@@ -909,15 +1122,41 @@ namespace fretsim::app
       return files;
     out << "full [s] = mesh + K + M + factorisation (once) + this instant's load assembly and solve\n";
 
+    // ---- The pressure on the Winkler foundation, the model as used.
+    out << "\npressure on the Winkler foundation under the run's ball loads alone (k_n = " << in.normal_stiffness
+        << " Pa/m, radial interference " << in.radial_interference
+        << " m; static, full FE against the model; errors over the interface grid relative to the full field:\n"
+        << " max-norm / max p and L2; 'run' = the run's own pressure at the instant, with tractions and dynamics;\n"
+        << " solves = linear solves of the active-set iteration, the full one starting from the model's contact set;"
+        << " full set-up " << std::fixed << std::setprecision(2) << winkler_setup << std::defaultfloat << " s)\n"
+        << "  inst  p_max full  model    run [MPa]  p err max   p err L2  contact full  model  solves full  model"
+           "   full [s]  model [ms]  run vs full: max      L2  run vs model\n";
+    for (const Row &r : rows)
+      if (r.whole_model)
+        {
+          const auto &w = r.winkler;
+          out << std::setw(6) << r.instant << std::fixed << std::setprecision(2) << std::setw(11)
+              << 1e-6 * w.full_peak << std::setw(7) << 1e-6 * w.reduced_peak << std::setw(12) << 1e-6 * r.max_pressure
+              << ' ' << sci(w.error_max) << ' ' << sci(w.error_l2) << std::setprecision(4) << std::setw(14)
+              << w.full_contact << std::setw(7) << w.reduced_contact << std::setprecision(0) << std::setw(13)
+              << w.full_iterations << std::setw(7) << w.reduced_iterations << std::setprecision(3) << std::setw(11)
+              << w.full_seconds << std::setw(12) << 1e3 * w.reduced_seconds << "       " << sci(w.run_error_max)
+              << ' ' << sci(w.run_error_l2) << "    " << sci(w.run_vs_reduced_max) << "\n"
+              << std::defaultfloat;
+        }
+    for (const std::string &note : winkler_notes)
+      out << "note: Winkler solve failed at " << note << "\n";
+
     // ---- The study: the worst instant per truncation.
     out << "\nerror against the reduced model's size (worst of the " << instants.size()
         << " instants; reduced time: mean per instant, load projection + factorisation + solve + recovery)\n"
         << "     m'  n_cc'   size  reduced [ms]    u_r err  u_theta err    u_z err  stress grid  stress race    race far"
-           "     energy\n";
+           "     energy  | Winkler: p err max   p err L2  peak ratio  solves  time [ms]\n";
     for (const auto &[m, c] : truncations)
       {
         Errors worst;
-        double seconds = 0.0;
+        double seconds = 0.0, winkler_max = not_measured, winkler_l2 = not_measured, winkler_seconds = 0.0;
+        double worst_ratio = not_measured, most_solves = 0.0; // reduced / full peak farthest from 1
         std::size_t count = 0, size = 0;
         for (const Row &r : rows)
           if (r.fixed_interface == m && r.constraint == c)
@@ -930,6 +1169,13 @@ namespace fretsim::app
               take(worst.raceway_stress, r.error.raceway_stress);
               take(worst.raceway_stress_far, r.error.raceway_stress_far);
               take(worst.energy, r.error.energy);
+              take(winkler_max, r.winkler.error_max);
+              take(winkler_l2, r.winkler.error_l2);
+              const double ratio = r.winkler.reduced_peak / r.winkler.full_peak;
+              if (std::isnan(worst_ratio) || std::abs(ratio - 1.0) > std::abs(worst_ratio - 1.0))
+                worst_ratio = ratio;
+              most_solves = std::max(most_solves, std::isnan(r.winkler.reduced_iterations) ? 0.0 : r.winkler.reduced_iterations);
+              winkler_seconds += std::isnan(r.winkler.reduced_seconds) ? 0.0 : r.winkler.reduced_seconds;
               seconds += r.reduced;
               size = r.size;
               ++count;
@@ -937,7 +1183,11 @@ namespace fretsim::app
         out << std::setw(7) << m << std::setw(7) << c << std::setw(7) << size << std::fixed << std::setprecision(3)
             << std::setw(14) << 1e3 * seconds / std::max<std::size_t>(count, 1) << ' ' << sci(worst.u_r) << "   "
             << sci(worst.u_theta) << ' ' << sci(worst.u_z) << "   " << sci(worst.grid_stress) << "   "
-            << sci(worst.raceway_stress) << "  " << sci(worst.raceway_stress_far) << ' ' << sci(worst.energy) << "\n"
+            << sci(worst.raceway_stress) << "  " << sci(worst.raceway_stress_far) << ' ' << sci(worst.energy)
+            << "  |         " << sci(winkler_max) << ' ' << sci(winkler_l2) << std::fixed << std::setprecision(3)
+            << std::setw(12) << worst_ratio << std::setprecision(0) << std::setw(8) << most_solves
+            << std::setprecision(2) << std::setw(11) << 1e3 * winkler_seconds / std::max<std::size_t>(count, 1)
+            << "\n"
             << std::defaultfloat;
       }
 
@@ -945,6 +1195,12 @@ namespace fretsim::app
     const std::string csv_path = (std::filesystem::path(output_directory) / "compare.csv").string();
     write_csv(csv_path, rows);
     files.push_back(csv_path);
+    if (!profile.full.empty())
+      {
+        const std::string profile_path = (std::filesystem::path(output_directory) / "compare_pressure.csv").string();
+        write_profile(profile_path, grid, profile);
+        files.push_back(profile_path);
+      }
     if (plots)
       for (const auto &figure : scenes::run_plot_script("plot_compare.py", {csv_path}))
         files.push_back(figure);

@@ -26,6 +26,18 @@
 // The study repeats the reduced side for the model truncated to its first
 // n_cc' characteristic constraint and first m' fixed-interface coordinates
 // (nested subspaces: both sets are ordered by ascending eigenvalue).
+//
+// The interface pressure itself: at each instant the ring is also solved on
+// the scene's unilateral Winkler foundation (k_n = Interface/Normal
+// stiffness, δ_fit = Interface/Radial interference; p_c = k_n max(δ_fit +
+// u_r,c, 0) on the interface grid, fem/winkler_foundation.h) under the run's
+// ball loads alone, by the full FE ring and by every truncated model, and the
+// pressure fields are compared (peak, max-norm and L2 errors, contact
+// fractions, active-set solves, times). No inertia relief there: the
+// foundation carries the balls' resultant, as the housing does in the run;
+// the shift holds only the rotation about the axis and the axial translation,
+// which move no cell radially. compare_pressure.csv holds the pressure along
+// the circumference (axial mid-row) at the instant of the highest full peak.
 #include "app/parameters.h" // InputError
 
 #include <iosfwd>
@@ -51,10 +63,16 @@ namespace fretsim::app
     std::string  source;           ///< the file the inputs come from, for messages
     std::string  reduction_config; ///< ring_housing configuration of the model
     std::string  model_file;       ///< reduced model (.h5) made from it
-    std::string  results_file;     ///< the co-simulation's results.h5
+    /// The co-simulation's results.h5. A run made with another model of the
+    /// same ring (other n_cc or m, same interface grid) is accepted: its loads
+    /// and pressures are compared, its own modal coordinates are not.
+    std::string  results_file;
     unsigned int instants = 4;     ///< how many snapshots to compare
     /// Truncations studied: m' and n_cc' (those above the model's are left out).
     std::vector<unsigned int> fixed_interface_modes, constraint_modes;
+    /// The housing interface's Winkler layer, as the run had it.
+    double normal_stiffness    = 1e15; ///< k_n [Pa/m], > 0
+    double radial_interference = 0.0;  ///< δ_fit [m]
   };
 
   /// Reads the scene file (and --set overrides) and resolves the paths: the
@@ -68,8 +86,8 @@ namespace fretsim::app
 
   /// Checks every input (InputError naming `inputs.source` and the parameter;
   /// nothing is written), then compares, prints the tables to `out` (rank 0)
-  /// and writes <output_directory>/compare.csv and, with `plots`,
-  /// compare.png. Returns the files written (on rank 0). Starts MPI unless it
+  /// and writes <output_directory>/compare.csv, compare_pressure.csv and,
+  /// with `plots`, compare.png. Returns the files written (on rank 0). Starts MPI unless it
   /// runs already; the full FE model is distributed over the ranks.
   std::vector<std::string> run_comparison(const CompareInputs &inputs, const std::string &output_directory,
                                           bool plots, std::ostream &out);

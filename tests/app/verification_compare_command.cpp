@@ -33,15 +33,25 @@
 //     0.015 / 0.013 / 0.050, stress on the grid 0.26 / 0.24 / 0.46, ball
 //     approach 0.033 at A, which `reduce` reports too: the footprint's local
 //     compliance, left to Hertz);
+//   * the Winkler foundation (the scene's defaults: k_n = 1e15 Pa/m,
+//     line-to-line): compare's reduced pressure under the ball loads alone
+//     equals this test's own active-set solve on the model file's arrays
+//     (ball rows interpolated, the u_r rows of the grid operator, K_r - σM_r,
+//     Gaussian elimination: round-off, 1e-8); B has no ball and no pressure;
+//     the full FE pressure is positive where balls press, its contact set
+//     the same on two ranks; the truncations' pressure error against n_cc'
+//     is reported (measured on this coarse ring, not asserted beyond being
+//     finite); compare_pressure.csv holds one line per grid column;
 //   * CSV and PNG are written; under mpiexec -np 2 (if available) the numbers
-//     are the same; bad input exits with 2, names the file and the parameter,
-//     and writes nothing.
+//     are the same; bad input exits with 2, names the file and the parameter
+//     (k_n <= 0 included), and writes nothing.
 #include "app/test_files.h"
 
 #include "output/results_file.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -142,12 +152,8 @@ namespace
     return x;
   }
 
-  /// The reduced static solution, written out independently of compare:
-  /// g = Σ Q_j r(ψ_j) (linear in ψ between stored rows) + Σ_c A G_cᵀ(-p, τ_x, τ_y),
-  /// balanced by the inertia of the six rigid-body coordinates (the first
-  /// six constraint coordinates): g_e = g - M R (Rᵀ M R)⁻¹ Rᵀ g; then
-  /// (K - σM) q = g_e with σ = -(2π · 1 Hz)².
-  std::vector<double> reduced_static(const Model &m, const Loads &l)
+  /// Σ_j Q_j r(ψ_j), r interpolated linearly between the stored rows.
+  std::vector<double> ball_load(const Model &m, const Loads &l)
   {
     const std::size_t   n = m.n;
     std::vector<double> g(n, 0.0);
@@ -164,6 +170,103 @@ namespace
         for (std::size_t j = 0; j < n; ++j)
           g[j] += l.forces[b] * ((1 - w) * m.approach[k0 * n + j] + w * m.approach[k1 * n + j]);
       }
+    return g;
+  }
+
+  /// The reduced ring on the Winkler foundation (δ_fit = 0) under the balls
+  /// alone, written out independently of compare (another algorithm): Newton
+  /// on Φ(q) = ½qᵀ(K - σM)q - gᵀq + ½ Σ k_n A max(d_c, 0)², d_c = (u_r row)·q,
+  /// from q = 0, with Armijo backtracking, until a full step keeps the set of
+  /// penetrating cells. Returns the peak pressure [Pa] and the contact fraction.
+  std::pair<double, double> reduced_winkler(const Model &m, const Loads &l, double k_n)
+  {
+    const std::size_t         n = m.n, cells = static_cast<std::size_t>(m.nx * m.ny);
+    const std::vector<double> g     = ball_load(m, l);
+    const double              sigma = -std::pow(2.0 * M_PI, 2), k_area = k_n * m.hx * m.hy;
+    std::vector<double>       shifted(n * n);
+    for (std::size_t k = 0; k < n * n; ++k)
+      shifted[k] = m.stiffness[k] - sigma * m.mass[k];
+    const auto penetration = [&](const std::vector<double> &q) {
+      std::vector<double> d(cells, 0.0);
+      for (std::size_t c = 0; c < cells; ++c)
+        for (std::size_t j = 0; j < n; ++j)
+          d[c] += m.grid_displacement[c * 3 * n + j] * q[j];
+      return d;
+    };
+    const auto energy = [&](const std::vector<double> &q) {
+      double phi = 0.0;
+      for (std::size_t i = 0; i < n; ++i)
+        {
+          for (std::size_t j = 0; j < n; ++j)
+            phi += 0.5 * q[i] * shifted[i * n + j] * q[j];
+          phi -= g[i] * q[i];
+        }
+      for (const double d : penetration(q))
+        phi += 0.5 * k_area * std::max(d, 0.0) * std::max(d, 0.0);
+      return phi;
+    };
+    std::vector<double> q(n, 0.0), d(cells, 0.0);
+    for (int iteration = 0; iteration < 500; ++iteration)
+      {
+        std::vector<double> hessian = shifted, gradient(n, 0.0);
+        for (std::size_t i = 0; i < n; ++i)
+          {
+            for (std::size_t j = 0; j < n; ++j)
+              gradient[i] += shifted[i * n + j] * q[j];
+            gradient[i] -= g[i];
+          }
+        for (std::size_t c = 0; c < cells; ++c)
+          if (d[c] > 0.0)
+            {
+              const double *row = m.grid_displacement.data() + c * 3 * n; // u_r
+              for (std::size_t i = 0; i < n; ++i)
+                {
+                  gradient[i] += k_area * d[c] * row[i];
+                  for (std::size_t j = 0; j < n; ++j)
+                    hessian[i * n + j] += k_area * row[i] * row[j];
+                }
+            }
+        std::vector<double> step = solve(hessian, gradient);
+        double              slope = 0.0;
+        for (std::size_t i = 0; i < n; ++i)
+          slope -= gradient[i] * step[i];
+        const double        phi = energy(q);
+        double              t   = 1.0;
+        std::vector<double> trial(n);
+        for (;; t *= 0.5)
+          {
+            for (std::size_t i = 0; i < n; ++i)
+              trial[i] = q[i] - t * step[i];
+            if (energy(trial) <= phi + 1e-4 * t * slope || t < 1e-12)
+              break;
+          }
+        const std::vector<double> d_trial = penetration(trial);
+        bool                      same    = true;
+        for (std::size_t c = 0; c < cells; ++c)
+          same = same && (d_trial[c] > 0.0) == (d[c] > 0.0);
+        q = trial;
+        d = d_trial;
+        if (t == 1.0 && same && iteration > 0)
+          break;
+      }
+    double peak = 0.0, in_contact = 0.0;
+    for (std::size_t c = 0; c < cells; ++c)
+      {
+        peak = std::max(peak, k_n * std::max(d[c], 0.0));
+        in_contact += d[c] > 0.0 ? 1.0 : 0.0;
+      }
+    return {peak, in_contact / static_cast<double>(cells)};
+  }
+
+  /// The reduced static solution, written out independently of compare:
+  /// g = Σ Q_j r(ψ_j) (linear in ψ between stored rows) + Σ_c A G_cᵀ(-p, τ_x, τ_y),
+  /// balanced by the inertia of the six rigid-body coordinates (the first
+  /// six constraint coordinates): g_e = g - M R (Rᵀ M R)⁻¹ Rᵀ g; then
+  /// (K - σM) q = g_e with σ = -(2π · 1 Hz)².
+  std::vector<double> reduced_static(const Model &m, const Loads &l)
+  {
+    const std::size_t   n = m.n;
+    std::vector<double> g = ball_load(m, l);
     const double area = m.hx * m.hy;
     for (std::size_t c = 0; c < l.pressure.size(); ++c)
       {
@@ -411,6 +514,47 @@ TEST(CompareCommand, ReducedModelAgainstFullFeAtTheRunsLoads)
     }
   EXPECT_LT(a.at("error_ball_approach"), 0.07);
 
+  // The Winkler foundation under the balls alone (see the top).
+  for (const Row &row : rows)
+    {
+      EXPECT_EQ(row.at("winkler_normal_stiffness_Pa_per_m"), 1e15);
+      EXPECT_EQ(row.at("winkler_radial_interference_m"), 0.0);
+    }
+  EXPECT_EQ(b.at("winkler_full_peak_pressure_Pa"), 0.0);
+  EXPECT_EQ(b.at("winkler_reduced_peak_pressure_Pa"), 0.0);
+  for (const int instant : {0, 2})
+    {
+      const auto [peak, contact] = reduced_winkler(model, instants[instant], 1e15);
+      const Row &row             = find(rows, instant, 16, 40);
+      std::printf("instant %d: Winkler peak full %.4e Pa, reduced %.4e Pa (this test: %.4e Pa), contact %.3f / %.3f "
+                  "(%.3f), error max %.3e, L2 %.3e; full %g solves %.2f s, reduced %g solves\n",
+                  instant, row.at("winkler_full_peak_pressure_Pa"), row.at("winkler_reduced_peak_pressure_Pa"), peak,
+                  row.at("winkler_full_contact_fraction"), row.at("winkler_reduced_contact_fraction"), contact,
+                  row.at("winkler_error_pressure_max"), row.at("winkler_error_pressure_l2"),
+                  row.at("winkler_full_iterations"), row.at("winkler_full_s"), row.at("winkler_reduced_iterations"));
+      EXPECT_LT(relative(row.at("winkler_reduced_peak_pressure_Pa"), peak), 1e-8);
+      EXPECT_NEAR(row.at("winkler_reduced_contact_fraction"), contact, 1e-9); // the CSV's 10 digits
+      EXPECT_GT(row.at("winkler_full_peak_pressure_Pa"), 0.0);
+      EXPECT_GT(row.at("winkler_full_contact_fraction"), 0.0);
+      EXPECT_LE(row.at("winkler_full_contact_fraction"), 1.0);
+      EXPECT_GE(row.at("winkler_full_iterations"), 1.0);
+      EXPECT_GT(row.at("winkler_full_s"), 0.0);
+      for (const int n_cc : {12, 20, 40})
+        {
+          const Row &truncated = find(rows, instant, 16, n_cc);
+          std::printf("  m' = 16, n_cc' = %2d: pressure error max %.3e, L2 %.3e\n", n_cc,
+                      truncated.at("winkler_error_pressure_max"), truncated.at("winkler_error_pressure_l2"));
+          EXPECT_TRUE(std::isfinite(truncated.at("winkler_error_pressure_max")));
+          EXPECT_TRUE(std::isfinite(truncated.at("winkler_error_pressure_l2")));
+        }
+      EXPECT_TRUE(std::isfinite(row.at("winkler_run_error_pressure_max")));
+    }
+  {
+    const std::string profile = read_text(dir / "out" / "compare_pressure.csv");
+    EXPECT_EQ(static_cast<int>(std::count(profile.begin(), profile.end(), '\n')), model.nx + 2); // comment, header
+    EXPECT_NE(profile.find("reduced_m16_ncc40_Pa"), std::string::npos);
+  }
+
   // Two ranks: the full FE model distributed, the same numbers.
   if (std::system("command -v mpiexec > /dev/null 2>&1") == 0)
     {
@@ -422,8 +566,16 @@ TEST(CompareCommand, ReducedModelAgainstFullFeAtTheRunsLoads)
       const std::vector<Row> parallel = read_csv(dir / "np2" / "compare.csv");
       ASSERT_EQ(parallel.size(), rows.size());
       for (std::size_t k = 0; k < rows.size(); ++k)
-        for (const std::string key : {"error_u_r", "error_stress_grid", "error_energy", "error_stress_raceway"})
-          EXPECT_LT(std::abs(parallel[k].at(key) - rows[k].at(key)), 1e-8 * std::abs(rows[k].at(key))) << key;
+        {
+          for (const std::string key : {"error_u_r", "error_stress_grid", "error_energy", "error_stress_raceway",
+                                        "winkler_full_peak_pressure_Pa", "winkler_reduced_peak_pressure_Pa",
+                                        "winkler_error_pressure_max", "winkler_error_pressure_l2"})
+            if (!std::isnan(rows[k].at(key)))
+              {
+                EXPECT_LE(std::abs(parallel[k].at(key) - rows[k].at(key)), 1e-8 * std::abs(rows[k].at(key))) << key;
+              }
+          EXPECT_EQ(parallel[k].at("winkler_full_contact_fraction"), rows[k].at("winkler_full_contact_fraction"));
+        }
     }
 }
 
@@ -445,6 +597,8 @@ TEST(CompareCommand, BadInputNamesTheParameterAndWritesNothing)
 
   for (const auto &[setting, parameter] : std::vector<std::pair<std::string, std::string>>{
          {"Compare/Instants=0", "Compare/Instants"},
+         {"Interface/Normal stiffness=0", "Interface/Normal stiffness"},
+         {"Interface/Normal stiffness=-1e15", "Interface/Normal stiffness"},
          {"Compare/Characteristic constraint modes=2.5", "Compare/Characteristic constraint modes"},
          {"Model/Model file=" + (dir / "missing.h5").string(), "Model/Model file"},
          {"Model/Reduction configuration=other.prm", "Model/Model file"},

@@ -46,28 +46,25 @@ namespace fretsim::coupling
     double            radius;
     contact::SurfaceGrid grid;
     std::size_t       n, cells;
-    // The operator as [cell][3][n] rows: a loaded cell's three rows are one
-    // contiguous block, read once for its displacement and once (from cache)
-    // for its generalised force; the radial rows alone are a strided view.
-    RowMatrix rows;
-    // Per-cell derivative blocks of the last Jacobian evaluation.
-    std::vector<Eigen::Matrix3d> block_position, block_velocity;
+    // The operator as [cell][3][n] rows in single precision: a loaded cell's
+    // three rows are one contiguous block, read once for its displacement and
+    // once (from cache) for its generalised force. At the paper's size
+    // (5760 cells × 3 × 160) it is 22 MB in double, and streaming it from
+    // memory was what a right-hand side cost; in float it is half that.
+    // Its relative rounding, 6e-8, moves the interface by 6e-8 of the ring's
+    // displacement (< 1e-13 m here, against a 1e-11 m tolerance), and the
+    // same rounded rows are used both ways, so the transfer stays exactly
+    // conservative. Products accumulate in double.
+    std::vector<float> rows;
+    // Per-cell derivatives of the last Jacobian evaluation: the traction
+    // (t_r = -p, τ_θ, τ_z) by the penetration, and the bristle's stiffness
+    // against the tangential slip (symmetric: k_t I when sticking, the
+    // tangent of the Coulomb cap, or zero when sliding).
+    std::vector<Eigen::Vector3d> by_penetration;
+    std::vector<Eigen::Matrix2d> slip_stiffness;
 
-    Eigen::Map<const RowMatrix, 0, Eigen::OuterStride<>> radial() const
-    {
-      return {rows.data(), static_cast<Eigen::Index>(cells), static_cast<Eigen::Index>(n),
-              Eigen::OuterStride<>(3 * static_cast<Eigen::Index>(n))};
-    }
-    Eigen::Map<const RowMatrix, 0, Eigen::OuterStride<>> circumferential() const
-    {
-      return {rows.data() + n, static_cast<Eigen::Index>(cells), static_cast<Eigen::Index>(n),
-              Eigen::OuterStride<>(3 * static_cast<Eigen::Index>(n))};
-    }
-    Eigen::Map<const RowMatrix, 0, Eigen::OuterStride<>> axial() const
-    {
-      return {rows.data() + 2 * n, static_cast<Eigen::Index>(cells), static_cast<Eigen::Index>(n),
-              Eigen::OuterStride<>(3 * static_cast<Eigen::Index>(n))};
-    }
+    /// Row `component` (0 radial, 1 circumferential, 2 axial) of cell c.
+    const float *row(std::size_t c, int component) const { return rows.data() + (3 * c + component) * n; }
 
     // Committed (last accepted) state.
     contact::Field tau_x, tau_y, u_t, u_z, pressure;
@@ -86,9 +83,9 @@ namespace fretsim::coupling
       , grid(ring.interface_grid)
       , n(ring.n)
       , cells(ring.interface_grid.size())
-      , rows(Eigen::Map<const RowMatrix>(ring.interface_displacement.data(), 3 * cells, n))
-      , block_position(cells)
-      , block_velocity(cells)
+      , rows(ring.interface_displacement.begin(), ring.interface_displacement.end())
+      , by_penetration(cells)
+      , slip_stiffness(cells)
     {
       for (auto *field : {&tau_x, &tau_y, &u_t, &u_z, &pressure, &trial_tau_x, &trial_tau_y, &trial_pressure})
         field->assign(cells, 0.0);
@@ -96,16 +93,43 @@ namespace fretsim::coupling
       slipping.assign(cells, 0);
     }
 
+    double dot(const float *values, const double *x) const
+    {
+      double sum = 0.0;
+#pragma omp simd reduction(+ : sum)
+      for (std::size_t j = 0; j < n; ++j)
+        sum += static_cast<double>(values[j]) * x[j];
+      return sum;
+    }
+
+    /// The same row against two vectors in one pass over it.
+    void dot2(const float *values, const double *x, const double *y, double &x_sum, double &y_sum) const
+    {
+      double a = 0.0, b = 0.0;
+#pragma omp simd reduction(+ : a, b)
+      for (std::size_t j = 0; j < n; ++j)
+        {
+          a += static_cast<double>(values[j]) * x[j];
+          b += static_cast<double>(values[j]) * y[j];
+        }
+      x_sum = a;
+      y_sum = b;
+    }
+
+    /// out += G_cᵀ w, w = A (t_r, t_θ, t_z) of cell c.
+    void add_rows(std::size_t c, const Eigen::Vector3d &weights, double *out) const
+    {
+      const float *r = row(c, 0), *t = row(c, 1), *z = row(c, 2);
+#pragma omp simd
+      for (std::size_t j = 0; j < n; ++j)
+        out[j] += weights[0] * r[j] + weights[1] * t[j] + weights[2] * z[j];
+    }
+
     /// Pressure and tractions at a trial state; returns the per-cell 3×3
     /// derivative blocks of the traction (t_r = -p, τ_θ, τ_z) by (u_r, u_θ, u_z)
     /// and by u̇_r if asked.
     void evaluate(const double *q_data, const double *v_data, const ForceOutput &out)
     {
-      const Eigen::Map<const VectorXd> q(q_data, n), v(v_data, n);
-      Eigen::Matrix<double, Eigen::Dynamic, 2> state(n, 2);
-      state.col(0) = q;
-      state.col(1) = v;
-      const Eigen::Matrix<double, Eigen::Dynamic, 2> radial_motion = radial() * state; // u_r, u̇_r
       const double k_n = settings.normal_stiffness, c_n = k_n * settings.normal_damping_time;
       const double k_t = settings.tangential_stiffness, mu = settings.friction_coefficient;
       const bool   jacobian = out.by_position != nullptr;
@@ -117,18 +141,18 @@ namespace fretsim::coupling
         for (std::size_t c = 0; c < cells; ++c)
           {
             loaded[c] = 0;
-            const double penetration = settings.radial_interference + radial_motion(c, 0);
-            double       p           = penetration > 0.0 ? k_n * penetration + c_n * radial_motion(c, 1) : 0.0;
-            const bool   damped_out  = p <= 0.0;
-            p                        = std::max(p, 0.0);
+            double u_r = 0.0, u_r_rate = 0.0;
+            dot2(row(c, 0), q_data, v_data, u_r, u_r_rate);
+            const double penetration = settings.radial_interference + u_r;
+            // Damping never pulls: a fast-opening cell carries no pressure.
+            const double p = penetration > 0.0 ? std::max(k_n * penetration + c_n * u_r_rate, 0.0) : 0.0;
             trial_pressure[c]        = p;
             if (p <= 0.0 && tau_x[c] == 0.0 && tau_y[c] == 0.0)
               {
                 trial_tau_x[c] = trial_tau_y[c] = 0.0;
                 continue;
               }
-            const auto   block = rows.middleRows(3 * c, 3);
-            const double ut = block.row(1).dot(q), uz = block.row(2).dot(q);
+            const double ut = dot(row(c, 1), q_data), uz = dot(row(c, 2), q_data);
             const double ds_x = -(ut - u_t[c]), ds_y = -(uz - u_z[c]);
             const double mu_p = mu * p;
             Eigen::Vector2d traction, by_pressure = Eigen::Vector2d::Zero();
@@ -164,24 +188,15 @@ namespace fretsim::coupling
               }
             trial_tau_x[c] = traction.x();
             trial_tau_y[c] = traction.y();
-            const Eigen::Vector3d cell_traction(-p, traction.x(), traction.y());
-            local.noalias() += cell_area * (block.transpose() * cell_traction);
+            add_rows(c, cell_area * Eigen::Vector3d(-p, traction.x(), traction.y()), local.data());
             if (!jacobian || p <= 0.0)
               continue;
-            // d(traction)/d(u): normal part, and the bristle's dependence on
-            // the slip and, through μ p, on the penetration.
-            Eigen::Matrix3d position = Eigen::Matrix3d::Zero(), velocity = Eigen::Matrix3d::Zero();
-            if (!damped_out)
-              {
-                position(0, 0)             = -k_n;
-                velocity(0, 0)             = -c_n;
-                position.block<2, 1>(1, 0) = by_pressure * k_n;
-                velocity.block<2, 1>(1, 0) = by_pressure * c_n;
-              }
-            position.block<2, 2>(1, 1) = -by_slip; // ds = -du
-            block_position[c]          = position;
-            block_velocity[c]          = velocity;
-            loaded[c]                  = 1;
+            // A loaded cell is not damped out (p > 0): the traction depends on
+            // the penetration through p (normal, and the bristle through μp),
+            // on its rate through c_n = k_n τ_d the same way, and on the slip.
+            by_penetration[c] = Eigen::Vector3d(-k_n, by_pressure.x() * k_n, by_pressure.y() * k_n);
+            slip_stiffness[c] = by_slip;
+            loaded[c]         = 1;
           }
 #pragma omp critical
         force += local;
@@ -189,24 +204,41 @@ namespace fretsim::coupling
       Eigen::Map<VectorXd>(out.force, n) += force;
       if (!jacobian)
         return;
-      // ∂f/∂q = A Σ_c G_cᵀ D_c G_c over the loaded cells, as one product of
-      // the gathered rows.
+      // ∂f/∂q = A Σ_c G_cᵀ D_c G_c over the loaded cells, with
+      // D_c = [∂t/∂d | 0; 0 | -S_c] in (radial, tangential) blocks:
+      //   normal part      N = Σ (G_cᵀ ∂t/∂d) g_r,cᵀ   (one product, m rows),
+      //   tangential part  -Σ G_t,cᵀ S_c G_t,c = -Zᵀ Z with S_c = L Lᵀ, Z the
+      //                    rows Lᵀ G_t,c (a symmetric rank update),
+      // and ∂f/∂q̇ = τ_d N (the damping acts through p only). A third of the
+      // work of forming G_cᵀ D_c G_c as a full product, twice.
       std::vector<std::size_t> active;
       for (std::size_t c = 0; c < cells; ++c)
         if (loaded[c])
           active.push_back(c);
-      const std::size_t m = active.size();
-      RowMatrix         gathered(3 * m, n), weighted_position(3 * m, n), weighted_velocity(3 * m, n);
-      for (std::size_t a = 0; a < m; ++a)
+      if (active.empty())
+        return; // (and Eigen's product blocking divides by a zero depth)
+      const auto m = static_cast<Eigen::Index>(active.size()), size = static_cast<Eigen::Index>(n);
+      RowMatrix  normal_rows(m, size), radial_rows(m, size), tangential_rows(2 * m, size);
+      for (Eigen::Index a = 0; a < m; ++a)
         {
-          const std::size_t c               = active[a];
-          gathered.middleRows(3 * a, 3)     = rows.middleRows(3 * c, 3);
-          weighted_position.middleRows(3 * a, 3).noalias() = block_position[c] * rows.middleRows(3 * c, 3);
-          weighted_velocity.middleRows(3 * a, 3).noalias() = block_velocity[c] * rows.middleRows(3 * c, 3);
+          const std::size_t     c = active[a];
+          const RowMatrix       g = Eigen::Map<const Eigen::Matrix<float, 3, Eigen::Dynamic, Eigen::RowMajor>>(
+                                row(c, 0), 3, size)
+                                .cast<double>();
+          radial_rows.row(a)      = g.row(0);
+          normal_rows.row(a)      = by_penetration[c].transpose() * g;
+          const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> split(slip_stiffness[c]);
+          for (int k = 0; k < 2; ++k)
+            tangential_rows.row(2 * a + k) = std::sqrt(std::max(split.eigenvalues()[k], 0.0)) *
+                                             (split.eigenvectors().col(k).transpose() * g.bottomRows(2));
         }
-      Eigen::Map<RowMatrix> dq(out.by_position, n, n), dv(out.by_velocity, n, n);
-      dq.noalias() += cell_area * (gathered.transpose() * weighted_position);
-      dv.noalias() += cell_area * (gathered.transpose() * weighted_velocity);
+      const Eigen::MatrixXd normal = cell_area * (normal_rows.transpose() * radial_rows);
+      Eigen::MatrixXd       tangential = Eigen::MatrixXd::Zero(size, size);
+      tangential.selfadjointView<Eigen::Lower>().rankUpdate(tangential_rows.transpose(), -cell_area);
+      Eigen::Map<RowMatrix> dq(out.by_position, size, size), dv(out.by_velocity, size, size);
+      dq += normal;
+      dq += tangential.selfadjointView<Eigen::Lower>();
+      dv += settings.normal_damping_time * normal;
     }
   };
 
@@ -245,9 +277,13 @@ namespace fretsim::coupling
                             slip_threshold * impl->settings.friction_coefficient * impl->pressure[c];
     // Every cell's tangential position, open ones too: a cell that closes
     // during the next step slips from where it was, not from zero.
-    const Eigen::Map<const VectorXd> coordinates(q, impl->n);
-    Eigen::Map<VectorXd>(impl->u_t.data(), impl->cells) = impl->circumferential() * coordinates;
-    Eigen::Map<VectorXd>(impl->u_z.data(), impl->cells) = impl->axial() * coordinates;
+    const auto &d = *impl;
+#pragma omp parallel for schedule(static)
+    for (std::size_t c = 0; c < d.cells; ++c)
+      {
+        impl->u_t[c] = d.dot(d.row(c, 1), q);
+        impl->u_z[c] = d.dot(d.row(c, 2), q);
+      }
   }
 
   const contact::Field &InterfaceContact::pressure() const { return impl->pressure; }

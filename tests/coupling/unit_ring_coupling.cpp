@@ -177,6 +177,27 @@ TEST(InterfaceTransfer, InStepBristleUpdateIsTheContactModulesBristleTraction)
     }
 }
 
+TEST(InterfaceTransfer, WithNoCellLoadedTheForceAndJacobianAreZero)
+{
+  // A ring lifted off the housing everywhere (a clearance larger than any
+  // displacement): no traction, and the Jacobian with an empty contact set
+  // is zero rather than a product of empty matrices (which once crashed).
+  const auto        ring = synthetic::random_ring(5, 24, 4, 11);
+  InterfaceSettings settings;
+  settings.radial_interference = -1e-3;
+  InterfaceContact    contact(ring, settings);
+  const auto          q = mixed_state(5, 12, 1e-9), v = mixed_state(5, 13, 1e-6);
+  std::vector<double> f(5, 0.0), dq(25, 0.0), dv(25, 0.0);
+  contact.add_forces(q.data(), v.data(), {f.data(), dq.data(), dv.data()});
+  for (const double value : f)
+    EXPECT_EQ(value, 0.0);
+  for (std::size_t k = 0; k < dq.size(); ++k)
+    {
+      EXPECT_EQ(dq[k], 0.0);
+      EXPECT_EQ(dv[k], 0.0);
+    }
+}
+
 TEST(BallTransfer, JacobianMatchesFiniteDifferencesAndLoadsActAlongTheOperator)
 {
   const auto   ring = synthetic::random_ring(5, 8, 1, 9);

@@ -104,15 +104,8 @@ namespace fretsim::fem
     };
     iterate_active_set(cells, initial_active, impl->max_iterations, k_area, who, callbacks, solution.grid);
 
-    auto &grid = solution.grid;
-    grid.pressure.resize(cells);
-    double foundation = 0.0;
-    for (std::size_t c = 0; c < cells; ++c)
-      {
-        const double d   = std::max(grid.penetration[c], 0.0);
-        grid.pressure[c] = impl->layer.normal_stiffness * d;
-        foundation += 0.5 * k_area * d * d;
-      }
+    auto        &grid       = solution.grid;
+    const double foundation = foundation_pressure(impl->layer.normal_stiffness, k_area, grid);
     grid.energy = 0.5 * q.dot(impl->shifted * q) - g.dot(q) + foundation;
     solution.q.assign(q.data(), q.data() + q.size());
     grid.seconds = since(start);

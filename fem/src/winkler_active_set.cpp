@@ -146,4 +146,18 @@ namespace fretsim::fem
             }
       }
   }
+
+  double foundation_pressure(const double normal_stiffness, const double cell_stiffness, WinklerGridSolution &result)
+  {
+    const std::size_t cells = result.penetration.size();
+    result.pressure.resize(cells);
+    double energy = 0.0;
+    for (std::size_t c = 0; c < cells; ++c)
+      {
+        const double d     = std::max(result.penetration[c], 0.0);
+        result.pressure[c] = normal_stiffness * d;
+        energy += 0.5 * cell_stiffness * d * d;
+      }
+    return energy;
+  }
 } // namespace fretsim::fem

@@ -36,6 +36,10 @@ namespace fretsim::fem
                           double cell_stiffness, const std::string &solver, const ActiveSetSolver &callbacks,
                           WinklerGridSolution &result);
 
+  /// Fills result.pressure = k_n max(d, 0) from its penetration and returns
+  /// the foundation's energy ½ Σ k_n A max(d, 0)² [J] (`cell_stiffness` = k_n A).
+  double foundation_pressure(double normal_stiffness, double cell_stiffness, WinklerGridSolution &result);
+
   /// Throws std::invalid_argument (naming `solver`) unless k_n > 0 is finite
   /// and δ_fit is finite.
   void check_layer(const WinklerLayer &layer, const std::string &solver);

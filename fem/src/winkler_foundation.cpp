@@ -172,14 +172,7 @@ namespace fretsim::fem
     };
     iterate_active_set(cells, initial_active, impl->settings.max_iterations, k_area, who, callbacks, grid);
 
-    grid.pressure.resize(cells);
-    double foundation = 0.0;
-    for (std::size_t c = 0; c < cells; ++c)
-      {
-        const double d   = std::max(grid.penetration[c], 0.0);
-        grid.pressure[c] = impl->layer.normal_stiffness * d;
-        foundation += 0.5 * k_area * d * d;
-      }
+    const double foundation = foundation_pressure(impl->layer.normal_stiffness, k_area, grid);
     // Φ = ½ uᵀ(K - σM)u - fᵀu + the foundation's ½ Σ k_n A d₊².
     dealii::PETScWrappers::MPI::Vector shifted_u(model.owned_dofs, model.communicator());
     check_petsc(MatMult(impl->shifted, static_cast<const Vec &>(u), static_cast<const Vec &>(shifted_u)), "MatMult");

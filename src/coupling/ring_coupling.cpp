@@ -125,9 +125,9 @@ namespace fretsim::coupling
         out[j] += weights[0] * r[j] + weights[1] * t[j] + weights[2] * z[j];
     }
 
-    /// Pressure and tractions at a trial state; returns the per-cell 3×3
-    /// derivative blocks of the traction (t_r = -p, τ_θ, τ_z) by (u_r, u_θ, u_z)
-    /// and by u̇_r if asked.
+    /// Pressure and tractions at a trial state, their generalised force, and
+    /// if asked its derivatives by q and q̇ (from the per-cell derivatives
+    /// by_penetration and slip_stiffness of the loaded cells).
     void evaluate(const double *q_data, const double *v_data, const ForceOutput &out)
     {
       const double k_n = settings.normal_stiffness, c_n = k_n * settings.normal_damping_time;
@@ -146,7 +146,7 @@ namespace fretsim::coupling
             const double penetration = settings.radial_interference + u_r;
             // Damping never pulls: a fast-opening cell carries no pressure.
             const double p = penetration > 0.0 ? std::max(k_n * penetration + c_n * u_r_rate, 0.0) : 0.0;
-            trial_pressure[c]        = p;
+            trial_pressure[c] = p;
             if (p <= 0.0 && tau_x[c] == 0.0 && tau_y[c] == 0.0)
               {
                 trial_tau_x[c] = trial_tau_y[c] = 0.0;

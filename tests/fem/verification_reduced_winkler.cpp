@@ -25,6 +25,7 @@
 //     interface modes, and the fixed-interface modes, are needed for it. The
 //     soft-layer error comes from the far half's nanometre-deep contact.)
 #include "fem_test_environment.h"
+#include "reduction/bearing_ring.h"
 
 #include <fretsim/fem/winkler_foundation.h>
 #include <fretsim/reduction/craig_bampton.h>
@@ -39,18 +40,9 @@ using namespace fretsim;
 
 namespace
 {
-  const fem::Material steel{208e9, 0.3, 7850.0};
+  const fem::Material &steel = reduction_testing::bearing_steel;
 
-  fem::RingGeometry ring_6208()
-  {
-    fem::RingGeometry g;
-    g.bore_radius          = 0.0341;
-    g.outer_radius         = 0.040;
-    g.width                = 0.018;
-    g.groove_radius        = 0.006731;
-    g.groove_bottom_radius = 0.03635;
-    return g;
-  }
+  fem::RingGeometry ring_6208() { return reduction_testing::ring_6208_geometry(); }
 
   fem::CylinderGrid outer_grid()
   {

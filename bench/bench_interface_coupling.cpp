@@ -3,16 +3,16 @@
 // the upper half of the ring pressed into the housing (half the cells loaded:
 // more than the patches under the balls in the bearing_housing scene, so an
 // upper bound for the Jacobian):
-//   BM_InterfaceForces            one right-hand side (tractions and their
-//                                 generalised force), what ARKODE calls most;
-//   BM_InterfaceForcesAndJacobian the same with ∂f/∂q and ∂f/∂q̇ (a Newton
-//                                 setup);
-//   BM_InterfaceAccept            the bristle update after an accepted step.
+//   BM_InterfaceForces/0  one right-hand side (tractions and their generalised
+//                         force), what ARKODE calls most;
+//   BM_InterfaceForces/1  the same with ∂f/∂q and ∂f/∂q̇ (a Newton setup);
+//   BM_InterfaceAccept    the bristle update after an accepted step.
 // Counter: loaded cells. Compare variants within one run (noisy machines).
 #include "coupling/ring_coupling.h"
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -85,35 +85,29 @@ namespace
     }
   };
 
+  /// Argument 0: the tractions' generalised force alone; 1: with ∂f/∂q and ∂f/∂q̇.
   void BM_InterfaceForces(benchmark::State &state)
   {
     Setup            s;
     InterfaceContact contact(s.ring, s.settings);
     contact.accept(s.q.data(), s.v.data());
+    const bool jacobian = state.range(0) != 0;
     for (auto _ : state)
       {
-        contact.add_forces(s.q.data(), s.v.data(), {s.force.data(), nullptr, nullptr});
+        if (jacobian)
+          {
+            std::fill(s.by_position.begin(), s.by_position.end(), 0.0);
+            std::fill(s.by_velocity.begin(), s.by_velocity.end(), 0.0);
+          }
+        contact.add_forces(s.q.data(), s.v.data(),
+                           {s.force.data(), jacobian ? s.by_position.data() : nullptr,
+                            jacobian ? s.by_velocity.data() : nullptr});
         benchmark::DoNotOptimize(s.force.data());
-      }
-    state.counters["loaded_cells"] = contact.contact_fraction() * s.ring.interface_grid.size();
-  }
-  BENCHMARK(BM_InterfaceForces)->Unit(benchmark::kMillisecond);
-
-  void BM_InterfaceForcesAndJacobian(benchmark::State &state)
-  {
-    Setup            s;
-    InterfaceContact contact(s.ring, s.settings);
-    contact.accept(s.q.data(), s.v.data());
-    for (auto _ : state)
-      {
-        std::fill(s.by_position.begin(), s.by_position.end(), 0.0);
-        std::fill(s.by_velocity.begin(), s.by_velocity.end(), 0.0);
-        contact.add_forces(s.q.data(), s.v.data(), {s.force.data(), s.by_position.data(), s.by_velocity.data()});
         benchmark::DoNotOptimize(s.by_position.data());
       }
     state.counters["loaded_cells"] = contact.contact_fraction() * s.ring.interface_grid.size();
   }
-  BENCHMARK(BM_InterfaceForcesAndJacobian)->Unit(benchmark::kMillisecond);
+  BENCHMARK(BM_InterfaceForces)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
   void BM_InterfaceAccept(benchmark::State &state)
   {

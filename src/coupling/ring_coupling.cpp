@@ -219,12 +219,12 @@ namespace fretsim::coupling
         return; // (and Eigen's product blocking divides by a zero depth)
       const auto m = static_cast<Eigen::Index>(active.size()), size = static_cast<Eigen::Index>(n);
       RowMatrix  normal_rows(m, size), radial_rows(m, size), tangential_rows(2 * m, size);
+      RowMatrix  g(3, size); // one cell's rows in double
       for (Eigen::Index a = 0; a < m; ++a)
         {
-          const std::size_t     c = active[a];
-          const RowMatrix       g = Eigen::Map<const Eigen::Matrix<float, 3, Eigen::Dynamic, Eigen::RowMajor>>(
-                                row(c, 0), 3, size)
-                                .cast<double>();
+          const std::size_t c = active[a];
+          g = Eigen::Map<const Eigen::Matrix<float, 3, Eigen::Dynamic, Eigen::RowMajor>>(row(c, 0), 3, size)
+                .cast<double>();
           radial_rows.row(a)      = g.row(0);
           normal_rows.row(a)      = by_penetration[c].transpose() * g;
           const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> split(slip_stiffness[c]);

@@ -11,6 +11,7 @@
 //  * Several loads with the one factorisation: the solution is linear in f
 //    (to round-off amplified by the free ring's rigid-body modes, 1/|σ|).
 #include "fem_test_environment.h"
+#include "reduction/bearing_ring.h"
 
 #include <fretsim/fem/shifted_static_solver.h>
 
@@ -21,29 +22,11 @@ using namespace fretsim::fem;
 
 namespace
 {
-  const Material steel{208e9, 0.3, 7850.0};
+  const Material &steel = fretsim::reduction_testing::bearing_steel;
 
-  RingGeometry ring_6208()
-  {
-    RingGeometry g;
-    g.bore_radius          = 0.0341;
-    g.outer_radius         = 0.040;
-    g.width                = 0.018;
-    g.groove_radius        = 0.006731;
-    g.groove_bottom_radius = 0.03635;
-    return g;
-  }
+  RingGeometry ring_6208() { return fretsim::reduction_testing::ring_6208_geometry(); }
 
-  RacewayBallLoad ball(const double angle, const double force)
-  {
-    RacewayBallLoad b;
-    b.ring                      = ring_6208();
-    b.angle                     = angle;
-    b.force                     = force;
-    b.semi_axis_circumferential = 0.3e-3;
-    b.semi_axis_transverse      = 1.3e-3;
-    return b;
-  }
+  RacewayBallLoad ball(double angle, double force) { return fretsim::reduction_testing::raceway_ball_6208(angle, force); }
 
   std::shared_ptr<const Mesh> full_ring()
   {

@@ -57,16 +57,7 @@ namespace
     return g;
   }
 
-  fem::RacewayBallLoad ball(double angle, double force)
-  {
-    fem::RacewayBallLoad b;
-    b.ring                      = ring_6208();
-    b.angle                     = angle;
-    b.force                     = force;
-    b.semi_axis_circumferential = 0.3e-3;
-    b.semi_axis_transverse      = 1.3e-3;
-    return b;
-  }
+  fem::RacewayBallLoad ball(double angle, double force) { return reduction_testing::raceway_ball_6208(angle, force); }
 
   constexpr unsigned int n_constraint = 192, n_modal = 40;
 

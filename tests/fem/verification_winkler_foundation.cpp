@@ -25,6 +25,7 @@
 //     pressure of a model distributed over both ranks equals that of a model
 //     on each rank alone.
 #include "fem_test_environment.h"
+#include "reduction/bearing_ring.h"
 
 #include <fretsim/fem/winkler_foundation.h>
 
@@ -91,16 +92,7 @@ namespace
     return std::make_shared<const Mesh>(Mesh::ring(g, d, ranks));
   }
 
-  RacewayBallLoad ball(double angle, double force)
-  {
-    RacewayBallLoad b;
-    b.ring                      = grooved_ring();
-    b.angle                     = angle;
-    b.force                     = force;
-    b.semi_axis_circumferential = 0.3e-3;
-    b.semi_axis_transverse      = 1.3e-3;
-    return b;
-  }
+  RacewayBallLoad ball(double angle, double force) { return fretsim::reduction_testing::raceway_ball_6208(angle, force); }
 
   double seconds_since(std::chrono::steady_clock::time_point start)
   {

@@ -21,6 +21,19 @@ namespace fretsim::reduction_testing
     return g;
   }
 
+  /// A ball pressing on the 6208 raceway with the footprint the reduction
+  /// configuration uses for its raceway operator (0.3 × 1.3 mm semi-axes).
+  inline fem::RacewayBallLoad raceway_ball_6208(double angle, double force)
+  {
+    fem::RacewayBallLoad b;
+    b.ring                      = ring_6208_geometry();
+    b.angle                     = angle;
+    b.force                     = force;
+    b.semi_axis_circumferential = 0.3e-3;
+    b.semi_axis_transverse      = 1.3e-3;
+    return b;
+  }
+
   inline std::shared_ptr<const fem::Mesh> ring_6208(unsigned int circumferential, unsigned int radial,
                                                     unsigned int axial, unsigned int axial_land)
   {

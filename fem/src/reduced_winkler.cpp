@@ -89,6 +89,7 @@ namespace fretsim::fem
       if (factor.info() != Eigen::Success)
         throw std::runtime_error(who + ": K_r - sigma M_r + the foundation is not positive definite");
       solution.grid.factorisation_seconds += since(factor_start);
+      ++solution.grid.factorisations;
       Eigen::VectorXd rhs = g;
       if (fit != 0.0 && !in_contact.empty())
         rhs += (k_area * fit) * (contact_rows.transpose() * Eigen::VectorXd::Ones(contact_rows.rows()));

@@ -43,6 +43,8 @@ namespace fretsim::fem
     Mat                   shifted = nullptr; ///< K - σM
     dealii::PETScWrappers::MPI::SparseMatrix system; ///< K - σM + the active cells' foundation
     KSP                   ksp = nullptr;
+    /// The active set `system` holds the factorisation of (empty: none yet).
+    std::vector<unsigned char> factorised;
 
     ~Impl()
     {
@@ -62,6 +64,11 @@ namespace fretsim::fem
       for (unsigned int i = 0; i < n; ++i)
         w[i] = s.shape[i] * pressure_sign * s.e_r[fe.system_to_component_index(i).first];
     }
+
+    /// The active-set iteration for the assembled load f; u receives the
+    /// solution. Fills the grid side; `energy` holds only the foundation's part.
+    WinklerGridSolution solve(const dealii::PETScWrappers::MPI::Vector &f,
+                              const std::vector<unsigned char> &initial_active, dealii::PETScWrappers::MPI::Vector &u);
   };
 
   WinklerFoundationSolver::WinklerFoundationSolver(ElasticModel &model, const SurfaceGridMap &map,
@@ -105,21 +112,36 @@ namespace fretsim::fem
   WinklerFoundationSolver::Solution WinklerFoundationSolver::solve(const StaticLoad                 &load,
                                                                    const std::vector<unsigned char> &initial_active)
   {
-    const auto          start   = Clock::now();
-    const auto         &model   = impl->model->impl();
-    const auto         &map     = impl->map->impl();
-    const unsigned int  n       = model.fe.n_dofs_per_cell();
-    const std::size_t   cells   = map.grid.size();
-    const double        k_area  = impl->layer.normal_stiffness * map.grid.cell_area();
-    const double        fit     = impl->layer.radial_interference;
-    const double        sign    = map.pressure_sign;
-    Mat                 system  = impl->system.petsc_matrix();
-
+    const auto start = Clock::now();
+    const auto &model = impl->model->impl();
     const dealii::PETScWrappers::MPI::Vector f = assemble_load(model, load);
-    dealii::PETScWrappers::MPI::Vector       rhs(model.owned_dofs, model.communicator());
-    dealii::PETScWrappers::MPI::Vector       u(model.owned_dofs, model.communicator()); // the current state
-    dealii::PETScWrappers::MPI::Vector       candidate(model.owned_dofs, model.communicator());
-    bool                                     have_state = false;
+    dealii::PETScWrappers::MPI::Vector       u(model.owned_dofs, model.communicator());
+    WinklerGridSolution                      grid = impl->solve(f, initial_active, u);
+
+    // Φ = ½ uᵀ(K - σM)u - fᵀu + the foundation's ½ Σ k_n A d₊².
+    dealii::PETScWrappers::MPI::Vector shifted_u(model.owned_dofs, model.communicator());
+    check_petsc(MatMult(impl->shifted, static_cast<const Vec &>(u), static_cast<const Vec &>(shifted_u)), "MatMult");
+    grid.energy += 0.5 * (u * shifted_u) - (f * u);
+    grid.seconds = seconds_since(start);
+    return {std::move(grid), impl->model->field_from_vector(static_cast<const Vec &>(u))};
+  }
+
+  WinklerGridSolution WinklerFoundationSolver::Impl::solve(const dealii::PETScWrappers::MPI::Vector &f,
+                                                           const std::vector<unsigned char>         &initial_active,
+                                                           dealii::PETScWrappers::MPI::Vector       &u)
+  {
+    const auto        &model_impl = model->impl();
+    const auto        &map_impl   = map->impl();
+    const unsigned int n          = model_impl.fe.n_dofs_per_cell();
+    const std::size_t  cells      = map_impl.grid.size();
+    const double       k_area     = layer.normal_stiffness * map_impl.grid.cell_area();
+    const double       fit        = layer.radial_interference;
+    const double       sign       = map_impl.pressure_sign;
+    Mat                system_mat = system.petsc_matrix();
+
+    dealii::PETScWrappers::MPI::Vector rhs(model_impl.owned_dofs, model_impl.communicator());
+    dealii::PETScWrappers::MPI::Vector candidate(model_impl.owned_dofs, model_impl.communicator());
+    bool                               have_state = false;
     std::vector<dealii::types::global_dof_index> dof_indices(n);
     std::vector<double>                          w;
     dealii::FullMatrix<double>                   cell_matrix(n, n);
@@ -128,35 +150,51 @@ namespace fretsim::fem
     WinklerGridSolution grid;
     ActiveSetSolver     callbacks;
     callbacks.solve = [&](const std::vector<unsigned char> &active) {
+      // A set already factorised (the last one of the previous solve, as a
+      // transient's next step mostly starts from) keeps its factorisation.
+      const bool refactorise = active != factorised;
       const auto factor_start = Clock::now();
-      check_petsc(MatCopy(impl->shifted, system, SAME_NONZERO_PATTERN), "MatCopy");
+      if (refactorise)
+        check_petsc(MatCopy(shifted, system_mat, SAME_NONZERO_PATTERN), "MatCopy");
       rhs = f;
-      for (const auto &s : map.samples)
+      for (const auto &s : map_impl.samples)
         if (active[s.grid_cell])
           {
-            impl->weights(s, sign, w);
-            for (unsigned int i = 0; i < n; ++i)
-              {
-                cell_rhs(i) = k_area * fit * w[i];
-                for (unsigned int j = 0; j < n; ++j)
-                  cell_matrix(i, j) = k_area * w[i] * w[j];
-              }
+            weights(s, sign, w);
             s.cell->get_dof_indices(dof_indices);
-            model.constraints.distribute_local_to_global(cell_matrix, cell_rhs, dof_indices, impl->system, rhs);
+            for (unsigned int i = 0; i < n; ++i)
+              cell_rhs(i) = k_area * fit * w[i];
+            if (refactorise)
+              {
+                for (unsigned int i = 0; i < n; ++i)
+                  for (unsigned int j = 0; j < n; ++j)
+                    cell_matrix(i, j) = k_area * w[i] * w[j];
+                model_impl.constraints.distribute_local_to_global(cell_matrix, cell_rhs, dof_indices, system, rhs);
+              }
+            else
+              model_impl.constraints.distribute_local_to_global(cell_rhs, dof_indices, rhs);
           }
-      impl->system.compress(dealii::VectorOperation::add);
+      if (refactorise)
+        {
+          system.compress(dealii::VectorOperation::add);
+          factorised.clear(); // until the factorisation has succeeded
+        }
       rhs.compress(dealii::VectorOperation::add);
-      check_petsc(KSPSetOperators(impl->ksp, system, system), "KSPSetOperators");
-      check_petsc(KSPSetUp(impl->ksp), "KSPSetUp"); // the numeric factorisation
-      grid.factorisation_seconds += seconds_since(factor_start);
-      check_petsc(KSPSolve(impl->ksp, static_cast<const Vec &>(rhs), static_cast<const Vec &>(candidate)), "KSPSolve");
+      if (refactorise)
+        {
+          check_petsc(KSPSetOperators(ksp, system_mat, system_mat), "KSPSetOperators");
+          check_petsc(KSPSetUp(ksp), "KSPSetUp"); // the numeric factorisation
+          factorised = active;
+          ++grid.factorisations;
+          grid.factorisation_seconds += seconds_since(factor_start);
+        }
+      check_petsc(KSPSolve(ksp, static_cast<const Vec &>(rhs), static_cast<const Vec &>(candidate)), "KSPSolve");
       KSPConvergedReason reason;
-      check_petsc(KSPGetConvergedReason(impl->ksp, &reason), "KSPGetConvergedReason");
+      check_petsc(KSPGetConvergedReason(ksp, &reason), "KSPGetConvergedReason");
       if (reason < 0)
         throw std::runtime_error(who + ": the factorised solve failed (PETSc reason " +
                                  std::to_string(static_cast<int>(reason)) + ")");
-      const GridDisplacements at =
-        impl->map->interpolate(impl->model->field_from_vector(static_cast<const Vec &>(candidate)));
+      const GridDisplacements at = map->interpolate(model->field_from_vector(static_cast<const Vec &>(candidate)));
       // d = δ_fit - n·u with n = sign e_r.
       std::vector<double> penetration(cells);
       for (std::size_t c = 0; c < cells; ++c)
@@ -170,14 +208,121 @@ namespace fretsim::fem
         u.sadd(1.0 - t, t, candidate);
       have_state = true;
     };
-    iterate_active_set(cells, initial_active, impl->settings.max_iterations, k_area, who, callbacks, grid);
+    iterate_active_set(cells, initial_active, settings.max_iterations, k_area, who, callbacks, grid);
+    grid.energy = foundation_pressure(layer.normal_stiffness, k_area, grid);
+    return grid;
+  }
 
-    const double foundation = foundation_pressure(impl->layer.normal_stiffness, k_area, grid);
-    // Φ = ½ uᵀ(K - σM)u - fᵀu + the foundation's ½ Σ k_n A d₊².
-    dealii::PETScWrappers::MPI::Vector shifted_u(model.owned_dofs, model.communicator());
-    check_petsc(MatMult(impl->shifted, static_cast<const Vec &>(u), static_cast<const Vec &>(shifted_u)), "MatMult");
-    grid.energy  = 0.5 * (u * shifted_u) - (f * u) + foundation;
-    grid.seconds = seconds_since(start);
-    return {std::move(grid), impl->model->field_from_vector(static_cast<const Vec &>(u))};
+  // ---- WinklerNewmark
+
+  struct WinklerNewmark::Impl
+  {
+    ElasticModel                      *model = nullptr;
+    const SurfaceGridMap              *map   = nullptr;
+    WinklerLayer                       layer;
+    double                             dt = 0.0, t = 0.0;
+    std::unique_ptr<WinklerFoundationSolver> step; ///< σ = -4/Δt²
+    dealii::PETScWrappers::MPI::Vector u, v;       ///< owned
+    StaticLoad                         load;       ///< f at time t
+    WinklerGridSolution                state;      ///< the foundation at time t
+    double                             seconds = 0.0;
+    unsigned int                       steps = 0, factorisations = 0, solves = 0;
+  };
+
+  WinklerNewmark::WinklerNewmark(ElasticModel &model, const SurfaceGridMap &map, const WinklerLayer &layer,
+                                 const double time_step, const StaticLoad &initial_load, const double start_time)
+    : pimpl(std::make_unique<Impl>())
+  {
+    if (!(time_step > 0.0) || !std::isfinite(time_step))
+      throw std::invalid_argument("fem::WinklerNewmark: the time step must be finite and > 0 s");
+    auto &p = *pimpl;
+    p.model = &model;
+    p.map   = &map;
+    p.layer = layer;
+    p.dt    = time_step;
+    p.t     = start_time;
+    p.load  = initial_load;
+    const auto &m = model.impl();
+    p.u.reinit(m.owned_dofs, m.communicator());
+    p.v.reinit(m.owned_dofs, m.communicator());
+    {
+      WinklerFoundationSolver start(model, map, layer); // the free ring held by the 1 Hz shift
+      const auto              s = start.solve(initial_load);
+      p.u                       = s.displacement.impl().displacement;
+      p.state                   = s.grid;
+    }
+    WinklerSettings settings;
+    settings.shift_hz = 1.0 / (M_PI * time_step); // σ = -(2π f_s)² = -4/Δt²
+    p.step            = std::make_unique<WinklerFoundationSolver>(model, map, layer, settings);
+  }
+
+  WinklerNewmark::~WinklerNewmark() = default;
+
+  const WinklerGridSolution &WinklerNewmark::advance(const StaticLoad &load)
+  {
+    auto       &p     = *pimpl;
+    const auto  start = Clock::now();
+    const auto &model = p.model->impl();
+    // The step's load: f₊, and the previous end's f + G(u), G(u) being the
+    // foundation's pressure at time t applied as a grid traction.
+    const std::vector<double> zero(p.state.pressure.size(), 0.0);
+    const GridTractions       previous_foundation{p.state.pressure, zero, zero};
+    StaticLoad                previous = p.load;
+    previous.grid_tractions.push_back({p.map, &previous_foundation});
+    dealii::PETScWrappers::MPI::Vector rhs = assemble_load(model, load);
+    rhs += assemble_load(model, previous);
+    // + M(4u/Δt² + 4v/Δt) - K u
+    dealii::PETScWrappers::MPI::Vector w(model.owned_dofs, model.communicator()),
+      product(model.owned_dofs, model.communicator()), u_new(model.owned_dofs, model.communicator());
+    w.equ(4.0 / (p.dt * p.dt), p.u);
+    w.add(4.0 / p.dt, p.v);
+    model.mass.vmult(product, w);
+    rhs += product;
+    model.stiffness.vmult(product, p.u);
+    rhs -= product;
+
+    WinklerGridSolution next = p.step->impl->solve(rhs, p.state.active, u_new);
+    // v₊ = 2(u₊ - u)/Δt - v
+    w.equ(2.0 / p.dt, u_new);
+    w.add(-2.0 / p.dt, p.u);
+    w -= p.v;
+    p.v = w;
+    p.u = u_new;
+    p.load = load;
+    p.factorisations += next.factorisations;
+    p.solves += next.iterations;
+    next.seconds = seconds_since(start);
+    p.seconds += next.seconds;
+    p.state = std::move(next);
+    p.t += p.dt;
+    ++p.steps;
+    return p.state;
+  }
+
+  double WinklerNewmark::time() const { return pimpl->t; }
+  double WinklerNewmark::time_step() const { return pimpl->dt; }
+  unsigned int WinklerNewmark::steps() const { return pimpl->steps; }
+  unsigned int WinklerNewmark::factorisations() const { return pimpl->factorisations; }
+  unsigned int WinklerNewmark::solves() const { return pimpl->solves; }
+  double WinklerNewmark::step_seconds() const { return pimpl->seconds; }
+  const WinklerGridSolution &WinklerNewmark::foundation() const { return pimpl->state; }
+
+  double WinklerNewmark::energy() const
+  {
+    // ½vᵀMv + ½uᵀKu + ½ Σ k_n A d₊² - fᵀu
+    const auto &p     = *pimpl;
+    const auto &model = p.model->impl();
+    const auto  f     = assemble_load(model, p.load);
+    const double area = p.map->impl().grid.cell_area();
+    double       foundation = 0.0;
+    for (const double d : p.state.penetration)
+      foundation += d > 0.0 ? 0.5 * p.layer.normal_stiffness * area * d * d : 0.0;
+    return 0.5 * model.mass.matrix_norm_square(p.v) + 0.5 * model.stiffness.matrix_norm_square(p.u) + foundation -
+           (f * p.u);
+  }
+
+  DisplacementField WinklerNewmark::displacement() const
+  {
+    return pimpl->model->field_from_vector(static_cast<const Vec &>(pimpl->u));
   }
 } // namespace fretsim::fem

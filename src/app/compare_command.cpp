@@ -20,6 +20,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <iomanip>
 #include <limits>
@@ -68,6 +69,9 @@ namespace fretsim::app
       std::vector<double> modal_coordinates;             ///< [nt][n]
       std::size_t         n_snapshots = 0, n_balls = 0, n_cells = 0, n_coordinates = 0;
       double              ball_pass_frequency_hz = 0.0;  ///< 0 if the file has none
+      /// The run's integrator steps, their wall time [s] and the inner ring's
+      /// frequency [Hz]; 0 if the file has none (an older run).
+      double              integrator_steps = 0.0, run_seconds = 0.0, inner_ring_frequency_hz = 0.0;
       bool                other_model = false;           ///< its q has another size than the model's
     };
 
@@ -452,6 +456,66 @@ namespace fretsim::app
       WinklerComparison winkler;
     };
 
+    /// A full-FE transient of the ring on the run's Winkler foundation under
+    /// the run's ball loads (fem::WinklerNewmark; no bristle tractions, so a
+    /// lower bound on what a full-FE co-simulation costs), timed over a few
+    /// of the run's mean steps.
+    struct TransientTiming
+    {
+      unsigned int steps = 0, solves = 0, factorisations = 0;
+      double       start_time = 0.0, time_step = 0.0;      ///< [s]
+      double       start_seconds = 0.0, step_seconds = 0.0; ///< the static start, the steps [s]
+      double       peak_pressure = 0.0;                     ///< after the last step [Pa]
+      double       full_per_step() const { return step_seconds / steps; }
+    };
+
+    /// The run's ball loads at time t, linear between its snapshots (angles
+    /// along the shorter way round), balls without load left out.
+    fem::StaticLoad ball_loads_at(const RunFields &run, double t,
+                                  const std::function<fem::RacewayBallLoad(double, double)> &ball)
+    {
+      std::size_t k = 0;
+      while (k + 2 < run.n_snapshots && run.time[k + 1] <= t)
+        ++k;
+      const std::size_t next = std::min(k + 1, run.n_snapshots - 1);
+      const double      span = run.time[next] - run.time[k];
+      const double      s    = span > 0.0 ? std::clamp((t - run.time[k]) / span, 0.0, 1.0) : 0.0;
+      fem::StaticLoad   load;
+      for (std::size_t j = 0; j < run.n_balls; ++j)
+        {
+          const double a0 = run.ball_angle[k * run.n_balls + j], a1 = run.ball_angle[next * run.n_balls + j];
+          const double q  = (1.0 - s) * run.ball_load[k * run.n_balls + j] + s * run.ball_load[next * run.n_balls + j];
+          if (q > 0.0)
+            load.ball_loads.push_back(ball(a0 + s * std::remainder(a1 - a0, 2.0 * M_PI), q));
+        }
+      return load;
+    }
+
+    TransientTiming time_full_transient(fem::ElasticModel &fe, const fem::SurfaceGridMap &map,
+                                        const fem::WinklerLayer &layer, const RunFields &run, std::size_t snapshot,
+                                        unsigned int steps,
+                                        const std::function<fem::RacewayBallLoad(double, double)> &ball)
+    {
+      TransientTiming timing;
+      timing.time_step  = run.time.back() / run.integrator_steps; // the run's mean step
+      timing.start_time = run.time[snapshot];
+      const auto start  = Clock::now();
+      fem::StaticLoad    load = ball_loads_at(run, timing.start_time, ball);
+      fem::WinklerNewmark transient(fe, map, layer, timing.time_step, load, timing.start_time);
+      timing.start_seconds = seconds_since(start);
+      for (unsigned int k = 1; k <= steps; ++k)
+        {
+          load = ball_loads_at(run, timing.start_time + k * timing.time_step, ball);
+          transient.advance(load);
+        }
+      timing.steps          = transient.steps();
+      timing.solves         = transient.solves();
+      timing.factorisations = transient.factorisations();
+      timing.step_seconds   = transient.step_seconds();
+      timing.peak_pressure  = transient.foundation().peak_pressure();
+      return timing;
+    }
+
     double max_abs(const std::vector<double> &values, std::size_t offset = 0, std::size_t stride = 1)
     {
       double m = 0.0;
@@ -521,6 +585,17 @@ namespace fretsim::app
         {
           r.ball_pass_frequency_hz = 0.0; // spread the instants over the whole run instead
         }
+      try
+        {
+          r.integrator_steps = output::ResultsFile::read_double_attribute(in.results_file, "/", "integrator_steps");
+          r.run_seconds      = output::ResultsFile::read_double_attribute(in.results_file, "/", "run_seconds");
+          r.inner_ring_frequency_hz =
+            output::ResultsFile::read_double_attribute(in.results_file, "/", "inner_ring_frequency_hz");
+        }
+      catch (const std::exception &)
+        {
+          r.integrator_steps = r.run_seconds = r.inner_ring_frequency_hz = 0.0; // no timing to set the full one against
+        }
       for (const double v : r.ball_load)
         if (!std::isfinite(v))
           reject("holds ball loads that are not finite");
@@ -561,6 +636,19 @@ namespace fretsim::app
       for (std::size_t k = 0; k < values.size(); ++k)
         s << (k ? ", " : "") << values[k];
       return s.str();
+    }
+
+    /// One line: the full-FE transient's timing against the run's.
+    void write_transient_csv(const std::string &path, const TransientTiming &t, const RunFields &run)
+    {
+      const double reduced_per_step = run.run_seconds / run.integrator_steps;
+      std::ofstream csv(path);
+      csv << "steps,time_step_s,start_time_s,solves,factorisations,start_s,full_s_per_step,run_steps,run_s,"
+             "reduced_s_per_step,full_over_reduced,peak_pressure_Pa\n"
+          << std::setprecision(10) << t.steps << ',' << t.time_step << ',' << t.start_time << ',' << t.solves << ','
+          << t.factorisations << ',' << t.start_seconds << ',' << t.full_per_step() << ',' << run.integrator_steps
+          << ',' << run.run_seconds << ',' << reduced_per_step << ',' << t.full_per_step() / reduced_per_step << ','
+          << t.peak_pressure << '\n';
     }
 
     void write_csv(const std::string &path, const std::vector<Row> &rows)
@@ -674,6 +762,7 @@ namespace fretsim::app
       in.results_file =
         (std::filesystem::path("results") / std::filesystem::path(config_file).stem() / "results.h5").string();
     in.instants              = static_cast<unsigned int>(p.get_integer("Compare/Instants"));
+    in.full_transient_steps  = static_cast<unsigned int>(p.get_integer("Compare/Full transient steps"));
     in.fixed_interface_modes = counts(p, "Compare/Fixed-interface modes");
     in.constraint_modes      = counts(p, "Compare/Characteristic constraint modes");
     for (const unsigned int c : in.constraint_modes)
@@ -807,6 +896,8 @@ namespace fretsim::app
     PressureProfile          profile;
     std::vector<std::string> winkler_notes; // failed Winkler solves, printed after the table
     double                   winkler_setup = 0.0;
+    TransientTiming          transient;      // steps = 0: not run
+    std::string              transient_note; // why it failed
     {
       const auto setup_start = Clock::now();
       auto       mesh        = std::make_shared<const fem::Mesh>(build_ring_housing_mesh(body, in.reduction_config));
@@ -815,6 +906,17 @@ namespace fretsim::app
       const double              full_setup = seconds_since(setup_start);
       const double              sigma      = solver.shift();
       const fem::SurfaceGridMap map(fe, BoundaryId::ring_outer, grid);
+      // A ball on the model's raceway, as the run placed it (Hertz patch of the model's footprint).
+      const auto raceway_ball = [&](double angle, double force) {
+        fem::RacewayBallLoad ball;
+        ball.ring                      = body.ring;
+        ball.angle                     = std::fmod(angle, 2.0 * M_PI);
+        ball.contact_angle             = model.raceway.contact_angle;
+        ball.semi_axis_circumferential = model.raceway.semi_axis_circumferential;
+        ball.semi_axis_transverse      = model.raceway.semi_axis_transverse;
+        ball.force                     = force;
+        return ball;
+      };
       const fem::StressSampler  grid_sampler = fem::StressSampler::on_grid(fe, grid);
       std::unique_ptr<fem::StressSampler> raceway_sampler;
       if (!raceway_xyz.empty())
@@ -912,13 +1014,7 @@ namespace fretsim::app
           std::vector<std::unique_ptr<fem::SurfacePointMap>> patch_maps;
           for (const double angle : instant.ball_angles)
             {
-              fem::RacewayBallLoad ball;
-              ball.ring                      = body.ring;
-              ball.angle                     = std::fmod(angle, 2.0 * M_PI);
-              ball.contact_angle             = model.raceway.contact_angle;
-              ball.semi_axis_circumferential = model.raceway.semi_axis_circumferential;
-              ball.semi_axis_transverse      = model.raceway.semi_axis_transverse;
-              ball.force                     = 1.0;
+              const fem::RacewayBallLoad ball = raceway_ball(angle, 1.0);
               unit_balls.push_back(ball);
               patches.push_back(fem::raceway_patch_forces(ball));
               patch_maps.push_back(std::make_unique<fem::SurfacePointMap>(fe, patches.back().points, BoundaryId::raceway));
@@ -1115,6 +1211,21 @@ namespace fretsim::app
                     << std::defaultfloat;
             }
         }
+
+      // ---- The full-FE transient, timed over a few of the run's mean steps
+      // from the first compared instant.
+      if (in.full_transient_steps > 0 && run.integrator_steps > 0.0)
+        {
+          try
+            {
+              transient = time_full_transient(fe, map, {in.normal_stiffness, in.radial_interference}, run,
+                                              instants.front().snapshot, in.full_transient_steps, raceway_ball);
+            }
+          catch (const std::runtime_error &error)
+            {
+              transient_note = error.what();
+            }
+        }
     } // the FE objects go before MPI stops
 
     std::vector<std::string> files;
@@ -1191,10 +1302,45 @@ namespace fretsim::app
             << std::defaultfloat;
       }
 
+    // ---- The full-FE transient against the run.
+    if (transient.steps > 0)
+      {
+        const double reduced_per_step = run.run_seconds / run.integrator_steps;
+        const double steps_per_second = run.integrator_steps / run.time.back(); // of simulated time
+        out << "\nfull-FE transient against the run (Newmark on the Winkler foundation, ball loads from the run, "
+               "no bristle tractions: a lower bound on a full-FE co-simulation's cost)\n"
+            << "  " << transient.steps << " steps of dt = " << transient.time_step << " s (the run's mean: "
+            << static_cast<long long>(run.integrator_steps) << " steps in " << run.time.back() << " s) from t = " << transient.start_time
+            << " s; " << transient.solves << " linear solves, " << transient.factorisations
+            << " factorisations; static start " << std::fixed << std::setprecision(2) << transient.start_seconds
+            << " s; peak pressure " << 1e-6 * transient.peak_pressure << " MPa\n"
+            << std::defaultfloat << "  full FE: " << transient.full_per_step() << " s per step; the run: "
+            << reduced_per_step << " s per step (its whole run: integration, contact, stresses, Dang Van)\n"
+            << "  full / reduced: " << std::fixed << std::setprecision(1)
+            << transient.full_per_step() / reduced_per_step << std::defaultfloat;
+        if (run.inner_ring_frequency_hz > 0.0)
+          out << "; per inner-ring revolution at the run's steps: full " << std::fixed << std::setprecision(0)
+              << transient.full_per_step() * steps_per_second / run.inner_ring_frequency_hz << " s, reduced "
+              << std::setprecision(1) << reduced_per_step * steps_per_second / run.inner_ring_frequency_hz << " s"
+              << std::defaultfloat;
+        out << "\n";
+      }
+    else if (!transient_note.empty())
+      out << "\nnote: the full-FE transient failed: " << transient_note << "\n";
+    else if (in.full_transient_steps > 0)
+      out << "\nnote: no full-FE transient: the results file does not record the run's steps and time (a run made "
+             "before they were written)\n";
+
     std::filesystem::create_directories(output_directory);
     const std::string csv_path = (std::filesystem::path(output_directory) / "compare.csv").string();
     write_csv(csv_path, rows);
     files.push_back(csv_path);
+    if (transient.steps > 0)
+      {
+        const std::string transient_path = (std::filesystem::path(output_directory) / "compare_transient.csv").string();
+        write_transient_csv(transient_path, transient, run);
+        files.push_back(transient_path);
+      }
     if (!profile.full.empty())
       {
         const std::string profile_path = (std::filesystem::path(output_directory) / "compare_pressure.csv").string();

@@ -68,6 +68,8 @@ namespace fretsim::app
     /// and pressures are compared, its own modal coordinates are not.
     std::string  results_file;
     unsigned int instants = 4;     ///< how many snapshots to compare
+    /// Steps of the full-FE transient timed against the run (0: none).
+    unsigned int full_transient_steps = 20;
     /// Truncations studied: m' and n_cc' (those above the model's are left out).
     std::vector<unsigned int> fixed_interface_modes, constraint_modes;
     /// The housing interface's Winkler layer, as the run had it.

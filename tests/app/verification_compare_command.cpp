@@ -42,6 +42,11 @@
 //     the same on two ranks; the truncations' pressure error against n_cc'
 //     is reported (measured on this coarse ring, not asserted beyond being
 //     finite); compare_pressure.csv holds one line per grid column;
+//   * the full-FE transient (fem::WinklerNewmark, verified in
+//     verification_winkler_foundation.cpp) runs three of the run's mean steps
+//     and compare_transient.csv reports its time per step against the run's
+//     (timings are not asserted beyond being positive; the peak pressure is
+//     the same on two ranks);
 //   * CSV and PNG are written; under mpiexec -np 2 (if available) the numbers
 //     are the same; bad input exits with 2, names the file and the parameter
 //     (k_n <= 0 included), and writes nothing.
@@ -83,7 +88,8 @@ namespace
            (dir / "model.h5").string() +
            "\nend\n"
            "subsection Compare\n  set Instants = 3\n  set Fixed-interface modes = 0, 8, 16\n"
-           "  set Characteristic constraint modes = 12, 20, 40\n  set Results file = " +
+           "  set Characteristic constraint modes = 12, 20, 40\n  set Full transient steps = 3\n"
+           "  set Results file = " +
            (dir / "results.h5").string() + "\nend\n";
   }
 
@@ -334,6 +340,10 @@ namespace
         file.append_snapshot(1e-3 * (k + 1), {&p, &sx, &sy, &instants[k].angles, &instants[k].forces, &q[k]});
       }
     file.set_root_attribute("ball_pass_frequency_hz", 100.0);
+    // The run's steps and time, for the full-FE transient's timing.
+    file.set_root_attribute("integrator_steps", 400.0);
+    file.set_root_attribute("run_seconds", 2.0);
+    file.set_root_attribute("inner_ring_frequency_hz", 50.0);
   }
 
   using Row = std::map<std::string, double>;
@@ -555,6 +565,21 @@ TEST(CompareCommand, ReducedModelAgainstFullFeAtTheRunsLoads)
     EXPECT_NE(profile.find("reduced_m16_ncc40_Pa"), std::string::npos);
   }
 
+  // The full-FE transient: three of the run's mean steps (its time / its
+  // 400 steps), timed against the run's 2 s / 400 steps.
+  const std::vector<Row> transient = read_csv(dir / "out" / "compare_transient.csv");
+  ASSERT_EQ(transient.size(), 1u);
+  const Row &timing = transient[0];
+  std::printf("full-FE transient: %g steps, %g solves, %g factorisations, %.3e s per step, %.1f x the run's\n",
+              timing.at("steps"), timing.at("solves"), timing.at("factorisations"), timing.at("full_s_per_step"),
+              timing.at("full_over_reduced"));
+  EXPECT_EQ(timing.at("steps"), 3.0);
+  EXPECT_DOUBLE_EQ(timing.at("reduced_s_per_step"), 2.0 / 400.0);
+  EXPECT_GE(timing.at("factorisations"), 1.0);
+  EXPECT_LE(timing.at("factorisations"), timing.at("solves"));
+  EXPECT_GT(timing.at("full_s_per_step"), 0.0);
+  EXPECT_GT(timing.at("peak_pressure_Pa"), 0.0); // the balls press the ring into the foundation
+
   // Two ranks: the full FE model distributed, the same numbers.
   if (std::system("command -v mpiexec > /dev/null 2>&1") == 0)
     {
@@ -576,6 +601,10 @@ TEST(CompareCommand, ReducedModelAgainstFullFeAtTheRunsLoads)
               }
           EXPECT_EQ(parallel[k].at("winkler_full_contact_fraction"), rows[k].at("winkler_full_contact_fraction"));
         }
+      const std::vector<Row> parallel_transient = read_csv(dir / "np2" / "compare_transient.csv");
+      ASSERT_EQ(parallel_transient.size(), 1u);
+      EXPECT_LE(std::abs(parallel_transient[0].at("peak_pressure_Pa") - timing.at("peak_pressure_Pa")),
+                1e-8 * timing.at("peak_pressure_Pa"));
     }
 }
 

@@ -21,6 +21,14 @@
 //     the foundation's resultant balances the ball (conservation: Hᵀ moves the
 //     grid's force to the nodes exactly, K has no resultant, and the 1 Hz
 //     shift's inertia term σMu is ~1e-12 of it).
+// (c) WinklerNewmark, the full-FE transient on the foundation: under a
+//     constant load the static solution is a fixed point; with an
+//     interference fit that keeps every cell closed the system is linear and
+//     the trapezoidal rule conserves ½vᵀMv + ½uᵀKu + ½Σk_n A d² - fᵀu to
+//     round-off (Newmark 1959; Hughes, The Finite Element Method, §9.1) after
+//     the ball is taken away, with one factorisation for all steps; a ball
+//     moving slowly round the ring (unilateral, lift-off) ends near the static
+//     solution at its final place.
 // (d) Under mpiexec -np 2 (fem.mpi_np2.verification_winkler_foundation), the
 //     pressure of a model distributed over both ranks equals that of a model
 //     on each rank alone.
@@ -267,6 +275,86 @@ TEST(WinklerFoundation, OneBallIsCarriedBesideItAndTheFoundationBalancesIt)
         EXPECT_EQ(from_nothing.grid.active, solution.grid.active);
         EXPECT_LT(std::abs(from_nothing.grid.peak_pressure() - peak), 1e-8 * peak);
       }
+}
+
+TEST(WinklerFoundation, NewmarkKeepsTheStaticStateAndConservesEnergy)
+{
+  ElasticModel         model(ring_mesh(grooved_ring(), 24, 1, 2), {{MaterialId::ring, steel}}, 2);
+  const SurfaceGridMap map(model, BoundaryId::ring_outer, outer_grid(72, 6));
+  // 20 µm interference: the ring takes most of it (its uniform radial
+  // stiffness is ~1/30 of k_n), leaving ~0.6 µm of layer penetration, more
+  // than the 1 kN ball's release lifts anywhere.
+  const WinklerLayer   layer{2.6e13, 20e-6};
+  const double         dt = 2e-6;           // [s], ~1/20 of the ring-on-foundation breathing period
+  StaticLoad           loaded;
+  loaded.ball_loads.push_back(ball(0.5 * M_PI, 1000.0));
+  const auto u_r = [&](const WinklerNewmark &w) { return map.interpolate(w.displacement()).u_r; };
+
+  WinklerNewmark held(model, map, layer, dt, loaded);
+  const std::vector<double> start = u_r(held);
+  double                    scale = 0.0, drift = 0.0;
+  for (const double u : start)
+    scale = std::max(scale, std::abs(u));
+  for (int k = 0; k < 10; ++k)
+    held.advance(loaded);
+  const std::vector<double> after = u_r(held);
+  for (std::size_t c = 0; c < after.size(); ++c)
+    drift = std::max(drift, std::abs(after[c] - start[c]));
+  std::printf("constant load: max |u_r| %.4e m, drift after 10 steps %.2e of it, contact %.3f\n", scale,
+              drift / scale, held.foundation().contact_fraction());
+  EXPECT_EQ(held.foundation().contact_fraction(), 1.0);
+  EXPECT_LT(drift, 1e-9 * scale); // the start's 1 Hz shift leaves ~1e-12
+
+  // The ball taken away: free vibration on the (linear, all closed) foundation.
+  WinklerNewmark free(model, map, layer, dt, loaded);
+  const StaticLoad unloaded;
+  free.advance(unloaded); // the trapezoidal step averages the old and new load: energy changes once
+  const double energy = free.energy();
+  double       worst  = 0.0, moved = 0.0;
+  for (int k = 0; k < 40; ++k)
+    {
+      free.advance(unloaded);
+      worst = std::max(worst, std::abs(free.energy() - energy));
+      EXPECT_EQ(free.foundation().contact_fraction(), 1.0);
+    }
+  const std::vector<double> vibrating = u_r(free);
+  for (std::size_t c = 0; c < vibrating.size(); ++c)
+    moved = std::max(moved, std::abs(vibrating[c] - start[c]));
+  std::printf("free vibration: energy %.6e J, largest change over 40 steps %.2e of it, u_r moved %.2e of max, "
+              "%u factorisations in %u solves\n", energy, worst / std::abs(energy), moved / scale,
+              free.factorisations(), free.solves());
+  EXPECT_LT(worst, 1e-9 * std::abs(energy));
+  EXPECT_GT(moved, 1e-2 * scale); // it does vibrate: the test is not of a state at rest
+  EXPECT_EQ(free.factorisations(), 1u); // one set throughout: one factorisation
+  EXPECT_EQ(free.steps(), 41u);
+  EXPECT_THROW(WinklerNewmark(model, map, layer, 0.0, loaded), std::invalid_argument);
+}
+
+TEST(WinklerFoundation, NewmarkUnderASlowlyMovingBallEndsNearTheStaticSolution)
+{
+  ElasticModel         model(ring_mesh(grooved_ring(), 24, 1, 2), {{MaterialId::ring, steel}}, 2);
+  const SurfaceGridMap map(model, BoundaryId::ring_outer, outer_grid(72, 6));
+  const WinklerLayer   layer{1e15, 0.0};
+  const double         dt = 5e-6, sweep = 0.2, steps = 100; // 11.5° in 0.5 ms [rad]
+  StaticLoad           load;
+  load.ball_loads.push_back(ball(0.5 * M_PI, 2000.0));
+  WinklerNewmark transient(model, map, layer, dt, load);
+  for (int k = 1; k <= steps; ++k)
+    {
+      load.ball_loads.back() = ball(0.5 * M_PI + sweep * k / steps, 2000.0);
+      transient.advance(load);
+    }
+  WinklerFoundationSolver static_solver(model, map, layer);
+  const auto              reference = static_solver.solve(load).grid;
+  double                  error     = 0.0;
+  for (std::size_t c = 0; c < reference.pressure.size(); ++c)
+    error = std::max(error, std::abs(transient.foundation().pressure[c] - reference.pressure[c]));
+  std::printf("moving ball: peak %.4e Pa (static %.4e), max error %.2e of the static peak; %u steps, %u solves, "
+              "%u factorisations, %.3f s\n", transient.foundation().peak_pressure(), reference.peak_pressure(),
+              error / reference.peak_pressure(), transient.steps(), transient.solves(), transient.factorisations(),
+              transient.step_seconds());
+  EXPECT_LT(error, 0.05 * reference.peak_pressure());
+  EXPECT_LT(transient.factorisations(), transient.solves()); // sets met again reuse their factors
 }
 
 TEST(WinklerFoundation, BadSettingsAreRejected)

@@ -72,7 +72,8 @@ namespace fretsim::fem
     std::vector<double>        penetration; ///< d_c [m]; ≤ 0 where the cell is open
     std::vector<unsigned char> active;      ///< 1 where d_c > 0 (the converged set)
     std::size_t                active_cells = 0;
-    unsigned int               iterations   = 0; ///< linear solves (factorisations); the last one confirms the set
+    unsigned int               iterations   = 0; ///< linear solves; the last one confirms the set
+    unsigned int               factorisations = 0; ///< of them, those that factorised (a set met before reuses its factors)
     double                     energy       = 0.0; ///< Φ at the solution [J]
     double                     seconds      = 0.0; ///< the whole solve, load assembly included
     double                     factorisation_seconds = 0.0; ///< summed over the iterations
@@ -109,8 +110,59 @@ namespace fretsim::fem
     double setup_seconds() const; ///< mass (if assembled here) and K - σM
 
   private:
+    friend class WinklerNewmark;
     struct Impl;
     std::unique_ptr<Impl> impl;
+  };
+
+  /// The full FE body's transient on the foundation: what a bearing_housing
+  /// run does on the reduced model, done on the full one (without the
+  /// bristles' tangential tractions), to measure what the reduction saves.
+  /// Newmark's average acceleration in NewmarkIntegrator's displacement–
+  /// velocity form (transient.h), the foundation force G(u) = Σ_c A p_c w_c
+  /// taken at both ends of the step like the loads (the trapezoidal rule):
+  ///   (K + 4M/Δt²) u₊ - G(u₊) = M(4u/Δt² + 4v/Δt) - K u + G(u) + f + f₊,
+  ///   v₊ = 2(u₊ - u)/Δt - v.
+  /// Each step is WinklerFoundationSolver's problem with σ = -4/Δt² and the
+  /// right-hand side's known part as a load, solved by the same active-set
+  /// iteration from the previous step's set; the factorisation is kept while
+  /// the set does not change (each new set costs one MUMPS factorisation).
+  /// While no cell opens or closes the system is linear and the rule keeps
+  /// energy() exactly under a constant load; under a constant load the
+  /// static solution is a fixed point (up to the start's 1 Hz shift, ~1e-12).
+  class WinklerNewmark
+  {
+  public:
+    /// Starts at rest from the static solution on the foundation under
+    /// `initial_load` (WinklerFoundationSolver, 1 Hz shift). The model, map
+    /// and the loads' referenced objects must outlive the integrator.
+    /// Collective. Throws std::invalid_argument for a time step that is not
+    /// finite and > 0, and what WinklerFoundationSolver throws.
+    WinklerNewmark(ElasticModel &model, const SurfaceGridMap &map, const WinklerLayer &layer, double time_step,
+                   const StaticLoad &initial_load, double start_time = 0.0);
+    ~WinklerNewmark();
+    WinklerNewmark(const WinklerNewmark &)            = delete;
+    WinklerNewmark &operator=(const WinklerNewmark &) = delete;
+
+    /// One step to time() + Δt under `load`, the load at the new time (its
+    /// referenced objects must live until the next step). Returns the
+    /// foundation at the new time (`seconds`: this step). Collective.
+    const WinklerGridSolution &advance(const StaticLoad &load);
+
+    double                     time() const;
+    double                     time_step() const;
+    const WinklerGridSolution &foundation() const; ///< at time()
+    DisplacementField          displacement() const;
+    /// ½vᵀMv + ½uᵀKu + ½ Σ k_n A max(d, 0)² - fᵀu at time() [J]. Collective.
+    double       energy() const;
+    unsigned int steps() const;
+    unsigned int solves() const;         ///< linear solves over the steps
+    unsigned int factorisations() const; ///< MUMPS factorisations over the steps
+    double       step_seconds() const;   ///< wall time of the steps so far (not the static start)
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> pimpl;
   };
 
   /// The same problem on a reduced model u = T q (plain arrays, dense

@@ -62,6 +62,9 @@ namespace fretsim::coupling
     // tangent of the Coulomb cap, or zero when sliding).
     std::vector<Eigen::Vector3d> by_penetration;
     std::vector<Eigen::Matrix2d> slip_stiffness;
+    /// ∂t/∂d - ∂t/∂ḋ / τ_d: nonzero only in the closure band, where the
+    /// damping's c_n g''(d) ḋ adds to ∂p/∂d but not to ∂p/∂ḋ.
+    std::vector<Eigen::Vector3d> by_penetration_only;
 
     /// Row `component` (0 radial, 1 circumferential, 2 axial) of cell c.
     const float *row(std::size_t c, int component) const { return rows.data() + (3 * c + component) * n; }
@@ -86,6 +89,7 @@ namespace fretsim::coupling
       , rows(ring.interface_displacement.begin(), ring.interface_displacement.end())
       , by_penetration(cells)
       , slip_stiffness(cells)
+      , by_penetration_only(cells)
     {
       for (auto *field : {&tau_x, &tau_y, &u_t, &u_z, &pressure, &trial_tau_x, &trial_tau_y, &trial_pressure})
         field->assign(cells, 0.0);
@@ -125,6 +129,37 @@ namespace fretsim::coupling
         out[j] += weights[0] * r[j] + weights[1] * t[j] + weights[2] * z[j];
     }
 
+    struct LayerPressure
+    {
+      double pressure = 0.0, by_penetration = 0.0; ///< p [Pa] and ∂p/∂d [Pa/m]
+      double by_penetration_only = 0.0;            ///< the part of ∂p/∂d not in ∂p/∂ḋ / τ_d: c_n g'' ḋ
+    };
+
+    /// The Winkler layer at penetration d and rate ḋ (InterfaceSettings::
+    /// onset_pressure): p = k_n g(d) + c_n g'(d) ḋ, never pulling, with the C¹
+    /// closure g(d) = d²/(4 d_s) on (0, 2 d_s), d - d_s beyond, d_s = p_s/k_n.
+    /// ∂p/∂ḋ = c_n g'(d) = τ_d (∂p/∂d - c_n g''(d) ḋ).
+    LayerPressure layer_pressure(double penetration, double rate) const
+    {
+      const double k_n = settings.normal_stiffness, c_n = k_n * settings.normal_damping_time;
+      if (penetration <= 0.0)
+        return {};
+      const double onset = settings.onset_pressure / k_n; // d_s [m]
+      double       g = penetration, slope = 1.0, curvature = 0.0;
+      if (penetration < 2.0 * onset)
+        {
+          g         = penetration * penetration / (4.0 * onset);
+          slope     = penetration / (2.0 * onset);
+          curvature = 1.0 / (2.0 * onset);
+        }
+      else
+        g = penetration - onset;
+      const double p = k_n * g + c_n * slope * rate;
+      if (p <= 0.0)
+        return {};
+      return {p, k_n * slope + c_n * curvature * rate, c_n * curvature * rate};
+    }
+
     /// Pressure and tractions at a trial state, their generalised force, and
     /// if asked its derivatives by q and q̇ (from the per-cell derivatives
     /// by_penetration and slip_stiffness of the loaded cells).
@@ -145,7 +180,8 @@ namespace fretsim::coupling
             dot2(row(c, 0), q_data, v_data, u_r, u_r_rate);
             const double penetration = settings.radial_interference + u_r;
             // Damping never pulls: a fast-opening cell carries no pressure.
-            const double p = penetration > 0.0 ? std::max(k_n * penetration + c_n * u_r_rate, 0.0) : 0.0;
+            const LayerPressure layer = layer_pressure(penetration, u_r_rate);
+            const double        p     = layer.pressure;
             trial_pressure[c] = p;
             if (p <= 0.0 && tau_x[c] == 0.0 && tau_y[c] == 0.0)
               {
@@ -194,7 +230,9 @@ namespace fretsim::coupling
             // A loaded cell is not damped out (p > 0): the traction depends on
             // the penetration through p (normal, and the bristle through μp),
             // on its rate through c_n = k_n τ_d the same way, and on the slip.
-            by_penetration[c] = Eigen::Vector3d(-k_n, by_pressure.x() * k_n, by_pressure.y() * k_n);
+            const Eigen::Vector3d direction(-1.0, by_pressure.x(), by_pressure.y());
+            by_penetration[c]      = direction * layer.by_penetration;
+            by_penetration_only[c] = direction * layer.by_penetration_only;
             slip_stiffness[c] = by_slip;
             loaded[c]         = 1;
           }
@@ -209,8 +247,9 @@ namespace fretsim::coupling
       //   normal part      N = Σ (G_cᵀ ∂t/∂d) g_r,cᵀ   (one product, m rows),
       //   tangential part  -Σ G_t,cᵀ S_c G_t,c = -Zᵀ Z with S_c = L Lᵀ, Z the
       //                    rows Lᵀ G_t,c (a symmetric rank update),
-      // and ∂f/∂q̇ = τ_d N (the damping acts through p only). A third of the
-      // work of forming G_cᵀ D_c G_c as a full product, twice.
+      // and ∂f/∂q̇ = τ_d (N - N_b), N_b the part of N from the closure band's
+      // c_n g'' ḋ (few cells; the damping acts through p only). A third of
+      // the work of forming G_cᵀ D_c G_c as a full product, twice.
       std::vector<std::size_t> active;
       for (std::size_t c = 0; c < cells; ++c)
         if (loaded[c])
@@ -239,6 +278,24 @@ namespace fretsim::coupling
       dq += normal;
       dq += tangential.selfadjointView<Eigen::Lower>();
       dv += settings.normal_damping_time * normal;
+      std::vector<Eigen::Index> band;
+      for (Eigen::Index a = 0; a < m; ++a)
+        if (by_penetration_only[active[a]][0] != 0.0)
+          band.push_back(a);
+      if (!band.empty())
+        {
+          const auto b = static_cast<Eigen::Index>(band.size());
+          RowMatrix  band_rows(b, size), band_radial(b, size);
+          for (Eigen::Index k = 0; k < b; ++k)
+            {
+              const std::size_t c = active[band[k]];
+              g = Eigen::Map<const Eigen::Matrix<float, 3, Eigen::Dynamic, Eigen::RowMajor>>(row(c, 0), 3, size)
+                    .cast<double>();
+              band_rows.row(k)   = by_penetration_only[c].transpose() * g;
+              band_radial.row(k) = radial_rows.row(band[k]);
+            }
+          dv -= (settings.normal_damping_time * cell_area) * (band_rows.transpose() * band_radial);
+        }
     }
   };
 
@@ -250,8 +307,10 @@ namespace fretsim::coupling
       throw std::invalid_argument("interface contact: stiffnesses must be positive and finite");
     if (!(settings.friction_coefficient >= 0.0) || !std::isfinite(settings.friction_coefficient))
       throw std::invalid_argument("interface contact: the friction coefficient must be finite and >= 0");
-    if (!(settings.normal_damping_time >= 0.0))
-      throw std::invalid_argument("interface contact: the damping time must be >= 0");
+    if (!(settings.normal_damping_time >= 0.0) || !std::isfinite(settings.normal_damping_time))
+      throw std::invalid_argument("interface contact: the damping time must be finite and >= 0");
+    if (!(settings.onset_pressure >= 0.0) || !std::isfinite(settings.onset_pressure))
+      throw std::invalid_argument("interface contact: the onset pressure must be finite and >= 0");
     impl = std::make_unique<Impl>(ring, settings);
   }
 

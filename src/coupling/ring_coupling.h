@@ -64,6 +64,9 @@ namespace fretsim::coupling
     /// Radial interference of the fit (ring outer radius minus housing bore),
     /// negative for a clearance [m].
     double radial_interference = 0.0;
+    /// p_s: the layer closes gradually over the first 2 p_s / k_n of
+    /// penetration (InterfaceContact); 0: a sharp onset [Pa].
+    double onset_pressure = 0.0;
   };
 
   /// Loads and their derivatives at a trial state, added into caller arrays:
@@ -76,8 +79,13 @@ namespace fretsim::coupling
   };
 
   /// The ring outer surface against the rigid housing bore on the interface
-  /// grid: penetration d = δ_fit + u_r, pressure p = max(k_n d + c_n ḋ, 0) where
-  /// d > 0; tangential traction from the bristle model (paper eq. 4), advanced
+  /// grid: penetration d = δ_fit + u_r, pressure p = max(k_n g(d) + c_n g'(d) ḋ, 0)
+  /// where d > 0, with the closure g(d) = d²/(4 d_s) on (0, 2 d_s) and d - d_s
+  /// beyond, d_s = p_s / k_n (C¹; a rough layer's gradual closure, on the
+  /// scale of p_s = 1 MPa in the scene). The damping acts through the same
+  /// law, so a cell closing at speed starts from zero pressure: with the
+  /// plain max(k_n d + c_n ḋ, 0) (p_s = 0) the pressure jumps by c_n ḋ at
+  /// closure, and Newton's method failed on those jumps. Tangential traction from the bristle model (paper eq. 4), advanced
   /// by implicit Euler in the slip since the last accepted step:
   ///     τ(q) = (τ_n + k_t ds(q)) / (1 + k_t |ds(q)| / (μ p(q))),
   ///     ds = -(u_t(q) - u_t,n)   (the housing's shift relative to the ring).

@@ -113,6 +113,10 @@ namespace fretsim::scenes
                        1e9, 1e21),
       Spec::non_negative("Interface/Damping time", "1e-6",
                          "Normal damping of the layer, c_n = k_n x this: damps the ring's bounce in the housing [s]."),
+      Spec::non_negative("Interface/Onset pressure", "1e6",
+                         "p_s: the layer closes gradually (C^1) up to the pressure 2 p_s and carries k_n x "
+                         "penetration - p_s beyond; the damping acts through the same law, so that a closing cell's "
+                         "pressure starts from zero. 0: sharp onset, p jumps by c_n x closing speed [Pa]."),
       Spec::real_range("Interface/Radial interference", "0",
                        "Ring outer radius minus housing bore radius: > 0 interference fit, < 0 clearance, 0 "
                        "line-to-line (the paper: only the loaded half carries pressure) [m].",
@@ -233,6 +237,7 @@ namespace fretsim::scenes
     interface.tangential_stiffness = par.get_double("Interface/Tangential stiffness");
     interface.normal_damping_time  = par.get_double("Interface/Damping time");
     interface.radial_interference  = par.get_double("Interface/Radial interference");
+    interface.onset_pressure       = par.get_double("Interface/Onset pressure");
     s.run.damping_ratio            = par.get_double("Ring/Damping ratio");
 
     auto &integrator                  = s.run.integrator;

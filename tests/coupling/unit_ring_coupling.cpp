@@ -99,14 +99,52 @@ TEST(InterfaceTransfer, VirtualWorkOfTheTractionsEqualsTheGeneralisedForceTimesT
   EXPECT_LT(contact.contact_fraction(), 0.8);
 }
 
+TEST(InterfaceTransfer, TheLayerClosesContinuouslyEvenAtSpeed)
+{
+  // One cell at θ = π of a rigid ring: its penetration is -u_x, its rate -v_x.
+  const auto ring     = synthetic::rigid_ring(0.04, 0.018, 0.2, 1, 1);
+  const auto pressure = [&](double onset, double penetration, double rate) {
+    InterfaceSettings settings;
+    settings.normal_stiffness    = 1e15;
+    settings.normal_damping_time = 1e-6;
+    settings.onset_pressure      = onset;
+    InterfaceContact          contact(ring, settings);
+    const std::vector<double> q{-penetration, 0.0, 0.0, 0.0}, v{-rate, 0.0, 0.0, 0.0};
+    contact.accept(q.data(), v.data());
+    return contact.pressure()[0];
+  };
+  const double closing = 1e-3; // [m/s]: c_n ḋ = 1 MPa
+  // The plain law jumps by c_n ḋ where the cell closes ...
+  EXPECT_EQ(pressure(0.0, -1e-15, closing), 0.0);
+  EXPECT_NEAR(pressure(0.0, 1e-15, closing), 1e6, 1.0);
+  // ... the C¹ closure starts from zero (d_s = p_s / k_n = 1 nm; at d = 1e-15 m
+  // p = k_n d²/(4 d_s) + c_n (d / 2 d_s) ḋ = 2.5e-7 + 0.5 Pa).
+  EXPECT_EQ(pressure(1e6, -1e-15, closing), 0.0);
+  EXPECT_NEAR(pressure(1e6, 1e-15, closing), 0.5, 1e-6);
+  // The closure law itself (ḋ = 0): k_n d_s / 4 at d = d_s, k_n d - p_s beyond 2 d_s.
+  EXPECT_NEAR(pressure(1e6, 1e-9, 0.0), 0.25e6, 1e-6 * 0.25e6);
+  EXPECT_NEAR(pressure(1e6, 3e-9, 0.0), 2e6, 1e-6 * 2e6);
+  // Opening fast, the damping never pulls.
+  EXPECT_EQ(pressure(1e6, 3e-9, -1.0), 0.0);
+  InterfaceSettings bad;
+  bad.onset_pressure = -1.0;
+  EXPECT_THROW(InterfaceContact(ring, bad), std::invalid_argument);
+}
+
 TEST(InterfaceTransfer, AnalyticJacobianMatchesFiniteDifferencesWithStickSlipAndOpenCells)
 {
+  // Sharp onset, and the C¹ closure over d_s = p_s / k_n = 0.5 nm, where many
+  // cells of this state (penetrations ~1 nm) sit inside the closure band.
+  for (const double onset : {0.0, 0.5e6})
+  {
+  SCOPED_TRACE(onset);
   const auto        ring = synthetic::random_ring(5, 36, 3, 7);
   InterfaceSettings settings;
   settings.normal_stiffness     = 1e15;
   settings.tangential_stiffness = 2e15;
   settings.friction_coefficient = 0.11;
   settings.normal_damping_time  = 1e-6;
+  settings.onset_pressure       = onset;
   InterfaceContact contact(ring, settings);
   const auto       q0 = mixed_state(5, 11, 1e-9), v = mixed_state(5, 12, 1e-6);
   contact.accept(q0.data(), v.data());
@@ -132,6 +170,7 @@ TEST(InterfaceTransfer, AnalyticJacobianMatchesFiniteDifferencesWithStickSlipAnd
     }
   EXPECT_GT(nonlinear, 5);
   EXPECT_GT(linear, 5);
+  }
 }
 
 TEST(InterfaceTransfer, InStepBristleUpdateIsTheContactModulesBristleTraction)

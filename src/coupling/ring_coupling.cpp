@@ -165,7 +165,6 @@ namespace fretsim::coupling
     /// by_penetration and slip_stiffness of the loaded cells).
     void evaluate(const double *q_data, const double *v_data, const ForceOutput &out)
     {
-      const double k_n = settings.normal_stiffness, c_n = k_n * settings.normal_damping_time;
       const double k_t = settings.tangential_stiffness, mu = settings.friction_coefficient;
       const bool   jacobian = out.by_position != nullptr;
       VectorXd     force    = VectorXd::Zero(n);

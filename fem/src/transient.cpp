@@ -1,6 +1,6 @@
 // Newmark average acceleration in displacement–velocity form (transient.h),
 // and Hertz patch pressures on a contact grid.
-#include "model_impl.h"
+#include "newmark_rule.h"
 
 #include <fretsim/fem/transient.h>
 
@@ -126,24 +126,13 @@ namespace fretsim::fem
     const auto start = Clock::now();
     const auto f_new = assemble_load(model, load);
 
-    dealii::PETScWrappers::MPI::Vector w(model.owned_dofs, model.communicator()),
-      rhs(model.owned_dofs, model.communicator()), ku(model.owned_dofs, model.communicator()),
+    dealii::PETScWrappers::MPI::Vector rhs(model.owned_dofs, model.communicator()),
       u_new(model.owned_dofs, model.communicator());
-    w.equ(4.0 / (p.dt * p.dt), p.u);
-    w.add(4.0 / p.dt, p.v);
-    model.mass.vmult(rhs, w);
-    model.stiffness.vmult(ku, p.u);
-    rhs -= ku;
+    add_newmark_history(model, p.dt, p.u, p.v, rhs);
     rhs += p.f;
     rhs += f_new;
     check_petsc(KSPSolve(p.ksp, static_cast<Vec>(rhs), static_cast<Vec>(u_new)), "KSPSolve");
-
-    // v₊ = 2(u₊ - u)/Δt - v
-    w.equ(2.0 / p.dt, u_new);
-    w.add(-2.0 / p.dt, p.u);
-    w -= p.v;
-    p.v = w;
-    p.u = u_new;
+    advance_newmark_state(p.dt, u_new, p.u, p.v);
     p.f = f_new;
     p.t += p.dt;
     p.stepping += seconds_since(start);

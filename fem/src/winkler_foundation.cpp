@@ -2,6 +2,7 @@
 // active set a copy with the foundation cells' k_n A w_c w_cᵀ added through
 // the grid map's samples, factorised by MUMPS Cholesky (the nonzero pattern
 // never changes, so PETSc redoes only the numeric factorisation).
+#include "newmark_rule.h"
 #include "surface_grid_map_impl.h"
 #include "winkler_active_set.h"
 
@@ -271,23 +272,10 @@ namespace fretsim::fem
     previous.grid_tractions.push_back({p.map, &previous_foundation});
     dealii::PETScWrappers::MPI::Vector rhs = assemble_load(model, load);
     rhs += assemble_load(model, previous);
-    // + M(4u/Δt² + 4v/Δt) - K u
-    dealii::PETScWrappers::MPI::Vector w(model.owned_dofs, model.communicator()),
-      product(model.owned_dofs, model.communicator()), u_new(model.owned_dofs, model.communicator());
-    w.equ(4.0 / (p.dt * p.dt), p.u);
-    w.add(4.0 / p.dt, p.v);
-    model.mass.vmult(product, w);
-    rhs += product;
-    model.stiffness.vmult(product, p.u);
-    rhs -= product;
-
+    add_newmark_history(model, p.dt, p.u, p.v, rhs);
+    dealii::PETScWrappers::MPI::Vector u_new(model.owned_dofs, model.communicator());
     WinklerGridSolution next = p.step->impl->solve(rhs, p.state.active, u_new);
-    // v₊ = 2(u₊ - u)/Δt - v
-    w.equ(2.0 / p.dt, u_new);
-    w.add(-2.0 / p.dt, p.u);
-    w -= p.v;
-    p.v = w;
-    p.u = u_new;
+    advance_newmark_state(p.dt, u_new, p.u, p.v);
     p.load = load;
     p.factorisations += next.factorisations;
     p.solves += next.iterations;

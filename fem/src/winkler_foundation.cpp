@@ -251,6 +251,9 @@ namespace fretsim::fem
       const auto              s = start.solve(initial_load);
       p.u                       = s.displacement.impl().displacement;
       p.state                   = s.grid;
+      // As the steps' states hold it: the foundation's energy alone.
+      p.state.energy = foundation_pressure(layer.normal_stiffness, layer.normal_stiffness * map.impl().grid.cell_area(),
+                                           p.state);
     }
     WinklerSettings settings;
     settings.shift_hz = 1.0 / (M_PI * time_step); // σ = -(2π f_s)² = -4/Δt²
@@ -301,12 +304,8 @@ namespace fretsim::fem
     const auto &p     = *pimpl;
     const auto &model = p.model->impl();
     const auto  f     = assemble_load(model, p.load);
-    const double area = p.map->impl().grid.cell_area();
-    double       foundation = 0.0;
-    for (const double d : p.state.penetration)
-      foundation += d > 0.0 ? 0.5 * p.layer.normal_stiffness * area * d * d : 0.0;
-    return 0.5 * model.mass.matrix_norm_square(p.v) + 0.5 * model.stiffness.matrix_norm_square(p.u) + foundation -
-           (f * p.u);
+    return 0.5 * model.mass.matrix_norm_square(p.v) + 0.5 * model.stiffness.matrix_norm_square(p.u) +
+           p.state.energy - (f * p.u);
   }
 
   DisplacementField WinklerNewmark::displacement() const

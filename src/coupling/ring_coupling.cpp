@@ -62,9 +62,10 @@ namespace fretsim::coupling
     // tangent of the Coulomb cap, or zero when sliding).
     std::vector<Eigen::Vector3d> by_penetration;
     std::vector<Eigen::Matrix2d> slip_stiffness;
-    /// ∂t/∂d - ∂t/∂ḋ / τ_d: nonzero only in the closure band, where the
-    /// damping's c_n g''(d) ḋ adds to ∂p/∂d but not to ∂p/∂ḋ.
-    std::vector<Eigen::Vector3d> by_penetration_only;
+    /// The share of ∂t/∂d that is not in ∂t/∂ḋ / τ_d: nonzero only in the
+    /// closure band, where the damping's c_n g''(d) ḋ adds to ∂p/∂d but not
+    /// to ∂p/∂ḋ.
+    std::vector<double> band_share;
 
     /// Row `component` (0 radial, 1 circumferential, 2 axial) of cell c.
     const float *row(std::size_t c, int component) const { return rows.data() + (3 * c + component) * n; }
@@ -89,7 +90,7 @@ namespace fretsim::coupling
       , rows(ring.interface_displacement.begin(), ring.interface_displacement.end())
       , by_penetration(cells)
       , slip_stiffness(cells)
-      , by_penetration_only(cells)
+      , band_share(cells)
     {
       for (auto *field : {&tau_x, &tau_y, &u_t, &u_z, &pressure, &trial_tau_x, &trial_tau_y, &trial_pressure})
         field->assign(cells, 0.0);
@@ -132,7 +133,7 @@ namespace fretsim::coupling
     struct LayerPressure
     {
       double pressure = 0.0, by_penetration = 0.0; ///< p [Pa] and ∂p/∂d [Pa/m]
-      double by_penetration_only = 0.0;            ///< the part of ∂p/∂d not in ∂p/∂ḋ / τ_d: c_n g'' ḋ
+      double band_share = 0.0; ///< the share of ∂p/∂d not in ∂p/∂ḋ / τ_d: c_n g'' ḋ / (∂p/∂d)
     };
 
     /// The Winkler layer at penetration d and rate ḋ (InterfaceSettings::
@@ -157,7 +158,9 @@ namespace fretsim::coupling
       const double p = k_n * g + c_n * slope * rate;
       if (p <= 0.0)
         return {};
-      return {p, k_n * slope + c_n * curvature * rate, c_n * curvature * rate};
+      // ∂p/∂d > 0 wherever p > 0 (in the band p = g'(d) (k_n d / 2 + c_n ḋ)).
+      const double by_penetration = k_n * slope + c_n * curvature * rate;
+      return {p, by_penetration, c_n * curvature * rate / by_penetration};
     }
 
     /// Pressure and tractions at a trial state, their generalised force, and
@@ -229,9 +232,8 @@ namespace fretsim::coupling
             // A loaded cell is not damped out (p > 0): the traction depends on
             // the penetration through p (normal, and the bristle through μp),
             // on its rate through c_n = k_n τ_d the same way, and on the slip.
-            const Eigen::Vector3d direction(-1.0, by_pressure.x(), by_pressure.y());
-            by_penetration[c]      = direction * layer.by_penetration;
-            by_penetration_only[c] = direction * layer.by_penetration_only;
+            by_penetration[c] = Eigen::Vector3d(-1.0, by_pressure.x(), by_pressure.y()) * layer.by_penetration;
+            band_share[c]     = layer.band_share;
             slip_stiffness[c] = by_slip;
             loaded[c]         = 1;
           }
@@ -279,7 +281,7 @@ namespace fretsim::coupling
       dv += settings.normal_damping_time * normal;
       std::vector<Eigen::Index> band;
       for (Eigen::Index a = 0; a < m; ++a)
-        if (by_penetration_only[active[a]][0] != 0.0)
+        if (band_share[active[a]] != 0.0)
           band.push_back(a);
       if (!band.empty())
         {
@@ -287,10 +289,7 @@ namespace fretsim::coupling
           RowMatrix  band_rows(b, size), band_radial(b, size);
           for (Eigen::Index k = 0; k < b; ++k)
             {
-              const std::size_t c = active[band[k]];
-              g = Eigen::Map<const Eigen::Matrix<float, 3, Eigen::Dynamic, Eigen::RowMajor>>(row(c, 0), 3, size)
-                    .cast<double>();
-              band_rows.row(k)   = by_penetration_only[c].transpose() * g;
+              band_rows.row(k)   = band_share[active[band[k]]] * normal_rows.row(band[k]);
               band_radial.row(k) = radial_rows.row(band[k]);
             }
           dv -= (settings.normal_damping_time * cell_area) * (band_rows.transpose() * band_radial);

@@ -85,8 +85,9 @@ namespace fretsim::coupling
   /// scale of p_s = 1 MPa in the scene). The damping acts through the same
   /// law, so a cell closing at speed starts from zero pressure: with the
   /// plain max(k_n d + c_n ḋ, 0) (p_s = 0) the pressure jumps by c_n ḋ at
-  /// closure, and Newton's method failed on those jumps. Tangential traction from the bristle model (paper eq. 4), advanced
-  /// by implicit Euler in the slip since the last accepted step:
+  /// closure, and Newton's method failed on those jumps. Tangential traction
+  /// from the bristle model (paper eq. 4), advanced by implicit Euler in the
+  /// slip since the last accepted step:
   ///     τ(q) = (τ_n + k_t ds(q)) / (1 + k_t |ds(q)| / (μ p(q))),
   ///     ds = -(u_t(q) - u_t,n)   (the housing's shift relative to the ring).
   /// accept() applies exactly this update after every accepted step. Within a

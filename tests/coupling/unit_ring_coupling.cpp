@@ -121,7 +121,8 @@ TEST(InterfaceTransfer, TheLayerClosesContinuouslyEvenAtSpeed)
   // p = k_n d²/(4 d_s) + c_n (d / 2 d_s) ḋ = 2.5e-7 + 0.5 Pa).
   EXPECT_EQ(pressure(1e6, -1e-15, closing), 0.0);
   EXPECT_NEAR(pressure(1e6, 1e-15, closing), 0.5, 1e-6);
-  // The closure law itself (ḋ = 0): k_n d_s / 4 at d = d_s, k_n d - p_s beyond 2 d_s.
+  // The closure law itself (ḋ = 0): k_n d_s / 4 at d = d_s, k_n d - p_s beyond
+  // 2 d_s (closed forms; the bounds are round-off).
   EXPECT_NEAR(pressure(1e6, 1e-9, 0.0), 0.25e6, 1e-6 * 0.25e6);
   EXPECT_NEAR(pressure(1e6, 3e-9, 0.0), 2e6, 1e-6 * 2e6);
   // Opening fast, the damping never pulls.

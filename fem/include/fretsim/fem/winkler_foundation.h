@@ -151,7 +151,8 @@ namespace fretsim::fem
 
     double                     time() const;
     double                     time_step() const;
-    const WinklerGridSolution &foundation() const; ///< at time()
+    /// At time(); its `energy` is the foundation's ½ Σ k_n A max(d, 0)² alone.
+    const WinklerGridSolution &foundation() const;
     DisplacementField          displacement() const;
     /// ½vᵀMv + ½uᵀKu + ½ Σ k_n A max(d, 0)² - fᵀu at time() [J]. Collective.
     double       energy() const;

@@ -753,6 +753,10 @@ namespace fretsim::app
                             .string();
     if (!std::filesystem::is_regular_file(in.reduction_config))
       p.reject("Model/Reduction configuration", "names '" + in.reduction_config + "', which does not exist");
+    if (!p.get("Model/Housing reduction configuration").empty())
+      p.reject("Model/Housing reduction configuration",
+               "must be empty for `compare`: it re-solves the ring on the rigid housing (a flexible housing's full-FE "
+               "check is not built yet)");
     in.model_file = p.get("Model/Model file");
     if (in.model_file.empty())
       in.model_file = (std::filesystem::path("results") /

@@ -44,11 +44,15 @@ namespace fretsim::app
       double                        footprint_circumferential = 0.0, footprint_transverse = 0.0; ///< [m]
       bool                          compare_with_full          = true;
       std::vector<unsigned int>     study_fixed_interface, study_interface;
+      /// Zero-displacement supports of the body (a housing is held at its outside).
+      std::vector<BoundaryId>       clamped_surfaces;
+      /// Where the interface grid lies: the ring's outer surface, or the housing's bore.
+      BoundaryId                    grid_surface = BoundaryId::ring_outer;
       std::string                   input_hash;
       std::map<std::string, std::string> provenance;
     };
 
-    std::vector<BoundaryId> parse_surfaces(const SceneParameters &p, const std::string &path)
+    std::vector<BoundaryId> parse_surfaces(const SceneParameters &p, const std::string &path, const bool may_be_empty = false)
     {
       std::vector<BoundaryId> surfaces;
       std::stringstream       list(p.get(path));
@@ -68,9 +72,17 @@ namespace fretsim::app
                            "housing_bore, housing_outer, side_faces, sector_start, sector_end), got '" +
                              name + "'");
         }
-      if (surfaces.empty())
+      if (surfaces.empty() && !may_be_empty)
         p.reject(path, "names no surface; at least one coupling surface is needed");
       return surfaces;
+    }
+
+    std::vector<fem::Support> supports(const std::vector<BoundaryId> &surfaces)
+    {
+      std::vector<fem::Support> result;
+      for (const BoundaryId surface : surfaces)
+        result.push_back({surface});
+      return result;
     }
 
     std::vector<unsigned int> counts(const SceneParameters &p, const std::string &path)
@@ -120,10 +132,13 @@ namespace fretsim::app
     {
       ReduceRequest r;
       r.body = read_ring_housing_request(p);
-      if (r.body.bodies != "ring")
-        p.reject("Mesh/Bodies", "must be 'ring' for `reduce`: the outer ring is the flexible body (the housing is "
-                                "rigid in the co-simulation)");
+      if (r.body.bodies == "ring_in_housing")
+        p.reject("Mesh/Bodies", "must be 'ring' or 'housing' for `reduce`: each body gets its own model (the "
+                                "co-simulation couples them through the interface contact)");
+      const bool housing = r.body.bodies == "housing";
+      r.grid_surface     = housing ? BoundaryId::housing_bore : BoundaryId::ring_outer;
       r.settings.coupling_surfaces                 = parse_surfaces(p, "Reduction/Coupling surfaces");
+      r.clamped_surfaces                           = parse_surfaces(p, "Reduction/Clamped surfaces", true);
       r.settings.n_fixed_interface_modes           = static_cast<unsigned int>(p.get_integer("Reduction/Fixed-interface modes"));
       r.settings.n_characteristic_constraint_modes = static_cast<unsigned int>(p.get_integer("Reduction/Characteristic constraint modes"));
       r.settings.interface_shift_hz                = p.get_double("Reduction/Interface shift");
@@ -145,10 +160,16 @@ namespace fretsim::app
         return std::find(r.settings.coupling_surfaces.begin(), r.settings.coupling_surfaces.end(), id) !=
                r.settings.coupling_surfaces.end();
       };
-      if (r.grid_cells_circumferential > 0 && !has(BoundaryId::ring_outer))
+      if (r.grid_cells_circumferential > 0 && !has(r.grid_surface))
         p.reject("Reduction/Interface grid circumferential cells",
-                 "needs ring_outer among Reduction/Coupling surfaces (the grid lies on the ring outer surface); "
-                 "set it to 0 for no grid");
+                 "needs " + fem::to_string(r.grid_surface) + " among Reduction/Coupling surfaces (the grid lies on " +
+                   (housing ? "the housing bore" : "the ring outer surface") + "); set it to 0 for no grid");
+      for (const BoundaryId clamped : r.clamped_surfaces)
+        if (has(clamped))
+          p.reject("Reduction/Clamped surfaces", fem::to_string(clamped) + " is also a coupling surface; a surface "
+                                                 "is either held fixed or coupled");
+      if (housing && r.raceway_ball_positions > 0)
+        p.reject("Reduction/Raceway ball positions", "must be 0 for a housing (it has no raceway)");
       if (r.raceway_ball_positions > 0)
         {
           // The balls are placed on the Ring section's raceway all round.
@@ -207,7 +228,7 @@ namespace fretsim::app
       fem::CylinderGrid grid;
       if (r.grid_cells_circumferential == 0)
         return grid;
-      grid.radius = r.body.ring.outer_radius;
+      grid.radius = r.body.ring.outer_radius; // the housing's bore too (line-to-line in the geometry)
       grid.nx     = static_cast<int>(r.grid_cells_circumferential);
       grid.ny     = static_cast<int>(r.grid_cells_axial);
       grid.hx     = 2.0 * M_PI * grid.radius / grid.nx;
@@ -217,14 +238,18 @@ namespace fretsim::app
       return grid;
     }
 
-    /// Circumferential lines in the mid-plane: the raceway bottom (or bore)
-    /// and the outer surface, points at equal angles.
+    /// Circumferential lines in the mid-plane, points at equal angles: the
+    /// ring's raceway bottom (or bore) and outer surface, or the housing's bore
+    /// and outside.
     std::vector<fem::Point3> sample_points(const ReduceRequest &r)
     {
       std::vector<fem::Point3> points;
       const auto &ring  = r.body.ring;
-      const double inner = ring.has_groove() ? ring.groove_bottom_radius : ring.bore_radius;
-      for (const double radius : {inner, ring.outer_radius})
+      const double inner = r.body.bodies == "housing" ? r.body.housing.bore_radius
+                           : ring.has_groove()        ? ring.groove_bottom_radius
+                                                      : ring.bore_radius;
+      const double outer = r.body.bodies == "housing" ? r.body.housing.outer_radius : ring.outer_radius;
+      for (const double radius : {inner, outer})
         for (unsigned int k = 0; k < r.points_per_line; ++k)
           {
             const double theta = 2.0 * M_PI * (k + 0.5) / r.points_per_line;
@@ -307,6 +332,8 @@ namespace fretsim::app
           a.reduced_static_seconds = seconds_since(start);
           a.static_displacement = relative_max_error(radial(map->interpolate(u)), full.squeeze_u_r);
           a.static_stress       = relative_max_error(sampler->evaluate(u), full.squeeze_stress);
+          if (full.balls.ball_loads.empty())
+            return a;
           const auto u_balls    = cb.reduced_static(full.balls, reduced);
           a.balls_displacement  = relative_max_error(radial(map->interpolate(u_balls)), full.balls_u_r);
           a.balls_stress        = relative_max_error(sampler->evaluate(u_balls), full.balls_stress);
@@ -344,16 +371,17 @@ namespace fretsim::app
       // Two balls pressing outwards at θ = 90° and 270° (2 kN each, with the
       // footprint of the raceway operator; the default is the ellipse of a
       // 6208 ball at that load): self-equilibrated, so the free ring needs no
-      // support.
-      for (const double angle : {0.5 * M_PI, 1.5 * M_PI})
-        {
-          fem::RacewayBallLoad ball = unit_ball(request, angle);
-          ball.force                = 2000.0;
-          full.balls.ball_loads.push_back(ball);
-        }
+      // support. A housing has no raceway.
+      if (request.body.bodies == "ring")
+        for (const double angle : {0.5 * M_PI, 1.5 * M_PI})
+          {
+            fem::RacewayBallLoad ball = unit_ball(request, angle);
+            ball.force                = 2000.0;
+            full.balls.ball_loads.push_back(ball);
+          }
       if (grid.nx > 0)
         {
-          map          = std::make_unique<fem::SurfaceGridMap>(model, BoundaryId::ring_outer, grid);
+          map          = std::make_unique<fem::SurfaceGridMap>(model, request.grid_surface, grid);
           sampler      = std::make_unique<fem::StressSampler>(fem::StressSampler::on_grid(model, grid));
           full.squeeze = squeeze_patches(grid, 5000.0);
           fem::StaticLoad load;
@@ -363,6 +391,8 @@ namespace fretsim::app
           full.static_seconds = seconds_since(start);
           full.squeeze_u_r    = radial(map->interpolate(u));
           full.squeeze_stress = sampler->evaluate(u);
+          if (full.balls.ball_loads.empty())
+            return full;
           const auto u_balls  = cb.full_static(full.balls);
           full.balls_u_r      = radial(map->interpolate(u_balls));
           full.balls_stress   = sampler->evaluate(u_balls);
@@ -412,7 +442,13 @@ namespace fretsim::app
     surfaces.kind          = Spec::Kind::text;
     surfaces.default_value = "ring_outer";
     surfaces.doc = "Comma-separated boundary names whose nodes are the Craig-Bampton boundary DoFs: ring_outer (the "
-                   "housing interface, where the contact grid lies), optionally raceway [-].";
+                   "housing interface, where the contact grid lies), optionally raceway; for a housing (Mesh/Bodies "
+                   "= housing) housing_bore [-].";
+    Spec clamped = surfaces;
+    clamped.path          = "Reduction/Clamped surfaces";
+    clamped.default_value = "";
+    clamped.doc = "Comma-separated boundary names held fixed (zero displacement), e.g. housing_outer for a housing "
+                  "held at its outside; empty: a free body (the outer ring) [-].";
     Spec study_m = Spec::real_range("Reduction/Study fixed-interface modes", "5, 10, 20, 40",
                                     "Fixed-interface mode counts m tried by `reduce --study` [-].", 0, 5000);
     study_m.kind = Spec::Kind::real_list;
@@ -421,6 +457,7 @@ namespace fretsim::app
                                      5000);
     study_cc.kind = Spec::Kind::real_list;
     return {surfaces,
+            clamped,
             Spec::integer_range("Reduction/Fixed-interface modes", "40",
                                 "m: fixed-interface normal modes kept (boundary clamped) [-].", 0, 5000),
             Spec::integer_range("Reduction/Characteristic constraint modes", "120",
@@ -478,7 +515,7 @@ namespace fretsim::app
     const bool                     root = fem::ParallelEnvironment::rank() == 0;
     const auto                     total_start = Clock::now();
     auto mesh = std::make_shared<const fem::Mesh>(build_ring_housing_mesh(request.body, options.config_file));
-    fem::ElasticModel model(mesh, request.body.materials, request.body.degree);
+    fem::ElasticModel model(mesh, request.body.materials, request.body.degree, supports(request.clamped_surfaces));
     const double      setup_seconds = seconds_since(total_start);
     if (root)
       out << "full model:   " << model.n_dofs() << " DoFs (FE_Q" << request.body.degree << "), set up and K assembled in "
@@ -502,7 +539,7 @@ namespace fretsim::app
     const auto        operator_start = Clock::now();
     const fem::CylinderGrid grid     = interface_grid(request);
     if (grid.nx > 0)
-      result.interface_grid = reduction::grid_operators(cb, model, BoundaryId::ring_outer, grid);
+      result.interface_grid = reduction::grid_operators(cb, model, request.grid_surface, grid);
     result.sample_points = reduction::point_operators(cb, model, sample_points(request));
     const double operator_seconds = seconds_since(operator_start);
     const auto   raceway_start    = Clock::now();
@@ -556,17 +593,18 @@ namespace fretsim::app
         const Accuracy accuracy = measure(cb, m, result.free_frequencies_hz, full, model, map.get(), sampler.get());
         if (root)
           {
-            out << "lowest 10 free-free elastic modes (full FE modal solve " << std::fixed << std::setprecision(2)
+            out << (request.clamped_surfaces.empty() ? "lowest 10 free-free elastic modes" : "lowest 10 modes (clamped supports)") << " (full FE modal solve " << std::fixed << std::setprecision(2)
                 << full.modal_seconds << " s):\n" << std::defaultfloat;
             print_comparison(out, full.free_frequencies_hz, elastic(result.free_frequencies_hz, 10));
             out << std::scientific << std::setprecision(2) << "max frequency error: " << accuracy.frequency_error
                 << "\n";
             if (map)
-              out << "static squeeze of the outer surface (2 x 5 kN Hertz patches): u_r error "
+              out << "static squeeze of the interface surface (2 x 5 kN Hertz patches): u_r error "
                   << accuracy.static_displacement << ", stress error " << accuracy.static_stress
                   << " (max-norm, relative); full solve " << std::fixed << std::setprecision(3) << full.static_seconds
-                  << " s (factorisation included), reduced " << accuracy.reduced_static_seconds << " s\n"
-                  << "static balls on the raceway (2 x 2 kN, opposite): outer-surface u_r error " << std::scientific
+                  << " s (factorisation included), reduced " << accuracy.reduced_static_seconds << " s\n";
+            if (map && !full.balls.ball_loads.empty())
+              out << "static balls on the raceway (2 x 2 kN, opposite): outer-surface u_r error " << std::scientific
                   << std::setprecision(2) << accuracy.balls_displacement << ", stress error " << accuracy.balls_stress << "\n";
             out << std::defaultfloat;
           }
@@ -619,7 +657,7 @@ namespace fretsim::app
     const fem::ParallelEnvironment mpi;
     const bool                     root = fem::ParallelEnvironment::rank() == 0;
     auto mesh = std::make_shared<const fem::Mesh>(build_ring_housing_mesh(request.body, options.config_file));
-    fem::ElasticModel       model(mesh, request.body.materials, request.body.degree);
+    fem::ElasticModel model(mesh, request.body.materials, request.body.degree, supports(request.clamped_surfaces));
     const fem::CylinderGrid grid = interface_grid(request);
 
     // The references, with the boundary free and with it clamped.
@@ -631,10 +669,10 @@ namespace fretsim::app
     std::unique_ptr<fem::SurfaceGridMap> map;
     std::unique_ptr<fem::StressSampler>  sampler;
     const FullReference full = full_reference(model, reference_basis, grid, request, map, sampler);
-    std::vector<fem::Support> clamps;
-    for (const BoundaryId surface : request.settings.coupling_surfaces)
-      clamps.push_back({surface});
-    fem::ElasticModel  clamped(mesh, request.body.materials, request.body.degree, clamps);
+    auto all_clamped = request.clamped_surfaces;
+    all_clamped.insert(all_clamped.end(), request.settings.coupling_surfaces.begin(),
+                       request.settings.coupling_surfaces.end());
+    fem::ElasticModel  clamped(mesh, request.body.materials, request.body.degree, supports(all_clamped));
     fem::ModalSettings modal;
     modal.n_modes             = 10;
     modal.tolerance           = request.settings.eigen_tolerance;

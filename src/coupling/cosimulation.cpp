@@ -81,7 +81,10 @@ namespace fretsim::coupling
       // 10 ns): the motion is quasi-static at the ball pass rate, and the
       // bristle update after every step kicks the stiff contact modes, whose
       // velocity transients would otherwise set the step size.
+      // A coordinate that moves neither (a flexible housing's fixed-interface
+      // modes) gets the tightest tolerance of the others.
       const double velocity_scale = 1.0 / 1e-8;
+      double       tightest       = 1.0;
       for (std::size_t j = 0; j < n; ++j)
         {
           double largest = 0.0;
@@ -89,9 +92,15 @@ namespace fretsim::coupling
             largest = std::max(largest, std::abs(ring.interface_displacement[row * n + j]));
           for (std::size_t k = 0; k < ring.raceway_angles; ++k)
             largest = std::max(largest, std::abs(ring.raceway_approach[k * n + j]));
-          const double tolerance    = largest > 0.0 ? s.integrator.displacement_tolerance / largest : 1.0;
-          absolute_tolerance[j]     = tolerance;
-          absolute_tolerance[n + j] = tolerance * velocity_scale;
+          absolute_tolerance[j] = largest > 0.0 ? s.integrator.displacement_tolerance / largest : 0.0;
+          if (largest > 0.0)
+            tightest = std::min(tightest, absolute_tolerance[j]);
+        }
+      for (std::size_t j = 0; j < n; ++j)
+        {
+          if (absolute_tolerance[j] == 0.0)
+            absolute_tolerance[j] = tightest;
+          absolute_tolerance[n + j] = absolute_tolerance[j] * velocity_scale;
         }
     }
 

@@ -6,6 +6,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -28,6 +29,60 @@ namespace fretsim::coupling
       fail("the interface radius must be positive");
     if (raceway_angles < 4 || raceway_approach.size() != raceway_angles * n)
       fail("the raceway ball operator must have n values at each of at least 4 angles");
+  }
+
+  ReducedRing with_flexible_housing(const ReducedRing &ring, const ReducedHousing &housing)
+  {
+    ring.check();
+    const auto fail = [](const std::string &what) { throw std::invalid_argument("flexible housing: " + what); };
+    const std::size_t n_r = ring.n, n_h = housing.n, n = n_r + n_h;
+    if (ring.housing_coordinates != 0)
+      fail("the ring already has a housing");
+    if (n_h == 0 || housing.mass.size() != n_h * n_h || housing.stiffness.size() != n_h * n_h)
+      fail("its mass and stiffness must be n x n with n > 0");
+    const auto &a = ring.interface_grid, &b = housing.interface_grid;
+    const auto  close = [](double x, double y, double scale) { return std::abs(x - y) <= 1e-9 * scale; };
+    if (a.nx != b.nx || a.ny != b.ny || !close(a.hx, b.hx, a.hx) || !close(a.hy, b.hy, a.hy) ||
+        !close(a.x_min, b.x_min, a.hx) || !close(a.y_min, b.y_min, a.hy) ||
+        !close(ring.interface_radius, housing.interface_radius, ring.interface_radius))
+      fail("its bore grid (" + std::to_string(b.nx) + " x " + std::to_string(b.ny) + " cells, radius " +
+           std::to_string(housing.interface_radius) + " m) is not the ring's outer-surface grid (" +
+           std::to_string(a.nx) + " x " + std::to_string(a.ny) + ", " + std::to_string(ring.interface_radius) +
+           " m): build both with the same Ring/Outer radius, Ring/Width and interface grid cells");
+    if (housing.interface_displacement.size() != a.size() * 3 * n_h)
+      fail("its interface operator must have 3 n values per grid cell");
+
+    ReducedRing joint;
+    joint.n                           = n;
+    joint.housing_coordinates         = n_h;
+    joint.lowest_elastic_frequency_hz = ring.lowest_elastic_frequency_hz;
+    joint.interface_radius            = ring.interface_radius;
+    joint.interface_grid              = ring.interface_grid;
+    joint.raceway_angles              = ring.raceway_angles;
+    joint.mass.assign(n * n, 0.0);
+    joint.stiffness.assign(n * n, 0.0);
+    const auto place = [n](std::vector<double> &to, const std::vector<double> &from, std::size_t size,
+                           std::size_t offset) {
+      for (std::size_t i = 0; i < size; ++i)
+        std::copy_n(from.begin() + i * size, size, to.begin() + (offset + i) * n + offset);
+    };
+    place(joint.mass, ring.mass, n_r, 0);
+    place(joint.stiffness, ring.stiffness, n_r, 0);
+    place(joint.mass, housing.mass, n_h, n_r);
+    place(joint.stiffness, housing.stiffness, n_h, n_r);
+    joint.interface_displacement.resize(a.size() * 3 * n);
+    for (std::size_t row = 0; row < a.size() * 3; ++row)
+      {
+        double *to = joint.interface_displacement.data() + row * n;
+        std::copy_n(ring.interface_displacement.data() + row * n_r, n_r, to);
+        const double *from = housing.interface_displacement.data() + row * n_h;
+        for (std::size_t j = 0; j < n_h; ++j)
+          to[n_r + j] = -from[j];
+      }
+    joint.raceway_approach.assign(ring.raceway_angles * n, 0.0);
+    for (std::size_t k = 0; k < ring.raceway_angles; ++k)
+      std::copy_n(ring.raceway_approach.data() + k * n_r, n_r, joint.raceway_approach.data() + k * n);
+    return joint;
   }
 
   namespace

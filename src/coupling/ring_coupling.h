@@ -9,7 +9,8 @@
 // How structural and local compliance are combined (nothing counted twice):
 //  * housing interface: the ring's compliance at every wavelength its
 //    Craig–Bampton basis resolves comes from the reduced model; the housing is
-//    rigid; the contact itself is a Winkler layer of normal stiffness k_n
+//    rigid, or flexible through its own reduced model (with_flexible_housing);
+//    the contact itself is a Winkler layer of normal stiffness k_n
 //    [Pa/m] (the compliance of the rough interface) and bristles of stiffness
 //    k_t tangentially (paper eq. 4). The half-space is NOT used for
 //    displacements here: the pressure spreads over half the circumference,
@@ -50,9 +51,35 @@ namespace fretsim::coupling
     std::vector<double> raceway_approach; ///< [n_angles][n]
     std::size_t         raceway_angles = 0;
 
+    /// Coordinates of a flexible housing appended after the ring's own
+    /// (with_flexible_housing); 0: the housing is rigid and fixed.
+    std::size_t housing_coordinates = 0;
+
     /// Throws std::invalid_argument if the arrays do not fit together.
     void check() const;
   };
+
+  /// A Craig–Bampton model of the housing (held at its outside), reduced on
+  /// its bore: coordinates q_h ∈ R^n, the bore's displacement on the same grid
+  /// as the ring's outer surface, [cell][3][n] (u_r outward, u_θ, u_z).
+  struct ReducedHousing
+  {
+    std::size_t          n = 0;
+    std::vector<double>  mass, stiffness; ///< n × n row-major
+    double               interface_radius = 0.0;
+    contact::SurfaceGrid interface_grid;
+    std::vector<double>  interface_displacement;
+  };
+
+  /// The ring and a flexible housing as one system for the co-simulation:
+  /// coordinates [q, q_h], mass and stiffness block-diagonal, and the
+  /// interface operator the two surfaces' relative displacement,
+  /// [G T | −G_h T_h] per cell row. The interface contact then sees the gap
+  /// between the two surfaces, and its tractions return to both bodies, equal
+  /// and opposite, through the same rows (still consistent and conservative).
+  /// The balls act on the ring's columns only. Throws std::invalid_argument if
+  /// the two interface grids or radii differ.
+  ReducedRing with_flexible_housing(const ReducedRing &ring, const ReducedHousing &housing);
 
   /// Housing interface contact settings (SI).
   struct InterfaceSettings

@@ -21,6 +21,7 @@
 #include <filesystem>
 #include <iostream>
 #include <limits>
+#include <optional>
 
 namespace fretsim::scenes
 {
@@ -49,11 +50,67 @@ namespace fretsim::scenes
     }
   } // namespace
 
+  namespace
+  {
+    /// Where a body's reduced model comes from: its reduction configuration,
+    /// the model file, and the fingerprint of the configuration's inputs.
+    struct ModelSource
+    {
+      std::string config, file, expected_hash;
+      std::string file_parameter; ///< the scene parameter that names the file
+    };
+
+    /// Reads the model file, or builds it with `fretsim reduce` when it is
+    /// missing or was made from other inputs (if allowed).
+    reduction::ReducedModel load_or_build(const ModelSource &source, bool build, bool progress,
+                                          const app::SceneParameters &scene, bool &built)
+    {
+      try
+        {
+          return reduction::read_model_file(source.file, source.expected_hash);
+        }
+      catch (const reduction::ModelFileError &error)
+        {
+          if (!build)
+            scene.reject(source.file_parameter, error.what());
+          std::cerr << "bearing_housing: " << error.what() << "\n  building it with `fretsim reduce "
+                    << source.config << " -o " << source.file << "` (about 2 minutes for the 6208 ring)\n";
+          app::RingHousingCommandOptions reduce;
+          reduce.config_file = source.config;
+          reduce.output      = source.file;
+          reduce.overrides   = {{"Reduction/Compare with full FE", "false"}};
+          reduce.progress    = progress;
+          reduce.plots       = false;
+          app::run_reduce_command(reduce, std::cerr);
+          built = true;
+          return reduction::read_model_file(source.file, source.expected_hash);
+        }
+    }
+
+    /// The configuration named by `config_parameter` (relative to the
+    /// scene's file) and its model file (`file_parameter`; empty: results/
+    /// <configuration name>-model.h5, where `fretsim reduce` writes it).
+    ModelSource model_source(const app::SceneParameters &par, const std::string &config_parameter,
+                             const std::string &file_parameter)
+    {
+      namespace fs = std::filesystem;
+      ModelSource source;
+      source.config = (fs::path(par.file()).parent_path() / par.get(config_parameter)).lexically_normal().string();
+      if (!fs::exists(source.config))
+        par.reject(config_parameter, "no file '" + source.config + "'");
+      source.file = par.get(file_parameter);
+      if (source.file.empty())
+        source.file = (fs::path("results") / (fs::path(source.config).stem().string() + "-model.h5")).string();
+      source.file_parameter = file_parameter;
+      return source;
+    }
+  } // namespace
+
   struct BearingHousingScene::Settings
   {
-    std::string                    reduction_config, model_file;
+    ModelSource                    ring_model;
+    std::optional<ModelSource>     housing_model; ///< none: the housing is rigid and fixed
     bool                           build_model = true;
-    std::string                    expected_hash;
     coupling::CosimulationSettings run;
     double                         ring_poisson_ratio = 0.3;
     int                            samples_per_ball_pass = 40;
@@ -75,6 +132,12 @@ namespace fretsim::scenes
       text("Model/Model file", "",
            "The reduced model file; empty: results/<reduction configuration name>-model.h5 (where `fretsim reduce` "
            "writes it) [-]."),
+      text("Model/Housing reduction configuration", "",
+           "The ring_housing configuration (Mesh/Bodies = housing, Reduction/Coupling surfaces = housing_bore) of a "
+           "flexible housing's Craig-Bampton model, relative to this file's directory; the same Ring/Outer radius, "
+           "Ring/Width and interface grid as the ring's. Empty: the housing is rigid and fixed, as in the paper [-]."),
+      text("Model/Housing model file", "",
+           "The housing's reduced model file; empty: results/<housing configuration name>-model.h5 [-]."),
       Spec::selection("Model/Build if missing", "true",
                       "Build the model file with `fretsim reduce` when it is missing or was made from other inputs "
                       "(false: stop with an error) [-].",
@@ -174,22 +237,31 @@ namespace fretsim::scenes
     auto      &s    = *settings;
     const auto &par = parameters;
     namespace fs    = std::filesystem;
-    s.reduction_config =
-      (fs::path(par.file()).parent_path() / par.get("Model/Reduction configuration")).lexically_normal().string();
-    if (!fs::exists(s.reduction_config))
-      par.reject("Model/Reduction configuration", "no file '" + s.reduction_config + "'");
-    s.model_file = par.get("Model/Model file");
-    if (s.model_file.empty())
-      s.model_file = (fs::path("results") / (fs::path(s.reduction_config).stem().string() + "-model.h5")).string();
+    s.ring_model  = model_source(par, "Model/Reduction configuration", "Model/Model file");
     s.build_model = par.get_bool("Model/Build if missing");
 
     // The ring's geometry and material come from the reduction configuration.
-    const auto ring_parameters = app::read_ring_housing_parameters(s.reduction_config, {});
+    const auto ring_parameters = app::read_ring_housing_parameters(s.ring_model.config, {});
     const auto body            = app::read_ring_housing_request(ring_parameters);
-    s.expected_hash            = app::reduce_input_hash(s.reduction_config);
+    s.ring_model.expected_hash = app::reduce_input_hash(s.ring_model.config);
     if (!body.ring.has_groove())
-      par.reject("Model/Reduction configuration", "the ring in '" + s.reduction_config +
+      par.reject("Model/Reduction configuration", "the ring in '" + s.ring_model.config +
                                                     "' has no raceway groove; a ball bearing needs one");
+    if (!par.get("Model/Housing reduction configuration").empty())
+      {
+        s.housing_model = model_source(par, "Model/Housing reduction configuration", "Model/Housing model file");
+        const auto housing = app::read_ring_housing_request(app::read_ring_housing_parameters(s.housing_model->config, {}));
+        if (housing.bodies != "housing")
+          par.reject("Model/Housing reduction configuration",
+                     "'" + s.housing_model->config + "' must mesh the housing (Mesh/Bodies = housing)");
+        if (std::abs(housing.housing.bore_radius - body.ring.outer_radius) > 1e-9 * body.ring.outer_radius ||
+            std::abs(housing.housing.width - body.ring.width) > 1e-9 * body.ring.width)
+          par.reject("Model/Housing reduction configuration",
+                     "the housing bore in '" + s.housing_model->config +
+                       "' must have the ring's outer radius and width (Ring/Outer radius, Ring/Width): the fit is "
+                       "set by Interface/Radial interference");
+        s.housing_model->expected_hash = app::reduce_input_hash(s.housing_model->config);
+      }
 
     auto &b                   = s.run.bearing;
     b.ball_count              = static_cast<unsigned int>(par.get_integer("Bearing/Ball count"));
@@ -291,6 +363,19 @@ namespace fretsim::scenes
       ring.raceway_approach       = model.raceway.approach;
       return ring;
     }
+
+    coupling::ReducedHousing reduced_housing(const reduction::ReducedModel &model)
+    {
+      coupling::ReducedHousing housing;
+      housing.n                      = model.matrices.size();
+      housing.mass                   = model.matrices.mass;
+      housing.stiffness              = model.matrices.stiffness;
+      const auto &g                  = model.interface_grid.grid;
+      housing.interface_radius       = g.radius;
+      housing.interface_grid         = {g.nx, g.ny, g.hx, g.hy, g.x_min, g.y_min};
+      housing.interface_displacement = model.interface_grid.displacement;
+      return housing;
+    }
   } // namespace
 
   RunReport BearingHousingScene::run(const RunOptions &options)
@@ -300,31 +385,10 @@ namespace fretsim::scenes
     RunReport   report;
     namespace fs = std::filesystem;
 
-    // 1. The reduced model: read it, or build it when missing or stale.
-    reduction::ReducedModel model;
-    bool                    built = false;
-    try
-      {
-        model = reduction::read_model_file(s.model_file, s.expected_hash);
-      }
-    catch (const reduction::ModelFileError &error)
-      {
-        if (!s.build_model)
-          parameters.reject("Model/Model file", error.what());
-        std::cerr << "bearing_housing: " << error.what() << "\n  building it with `fretsim reduce "
-                  << s.reduction_config << " -o " << s.model_file << "` (about 2 minutes for the 6208 ring)\n";
-        app::RingHousingCommandOptions reduce;
-        reduce.config_file = s.reduction_config;
-        reduce.output      = s.model_file;
-        reduce.overrides   = {{"Reduction/Compare with full FE", "false"}};
-        reduce.progress    = options.progress;
-        reduce.plots       = false;
-        app::run_reduce_command(reduce, std::cerr);
-        model = reduction::read_model_file(s.model_file, s.expected_hash);
-        built = true;
-      }
-    const double model_seconds = seconds_since(run_start);
-    const auto   ring          = reduced_ring(model);
+    // 1. The reduced models: read them, or build them when missing or stale.
+    bool built = false;
+    const reduction::ReducedModel model = load_or_build(s.ring_model, s.build_model, options.progress, parameters, built);
+    auto ring = reduced_ring(model);
     try
       {
         ring.check();
@@ -335,6 +399,19 @@ namespace fretsim::scenes
                                                 " (rebuild it with `fretsim reduce`: it needs an interface grid and "
                                                 "Reduction/Raceway ball positions > 0)");
       }
+    if (s.housing_model)
+      {
+        const auto housing_model = load_or_build(*s.housing_model, s.build_model, options.progress, parameters, built);
+        try
+          {
+            ring = coupling::with_flexible_housing(ring, reduced_housing(housing_model));
+          }
+        catch (const std::invalid_argument &error)
+          {
+            parameters.reject("Model/Housing model file", error.what());
+          }
+      }
+    const double model_seconds = seconds_since(run_start);
     const auto &grid = ring.interface_grid;
 
     // 2. Stages that can fail on the model's data, before anything is written.
@@ -370,7 +447,12 @@ namespace fretsim::scenes
     results.set_root_attribute("ball_pass_frequency_hz", s.ball_pass_frequency);
     results.set_root_attribute("cage_frequency_hz", coupling::cage_speed(s.run.bearing, s.run.inner_ring_speed) / (2.0 * M_PI));
     results.set_root_attribute("ball_count", static_cast<double>(s.run.bearing.ball_count));
-    results.set_root_attribute("model_file", s.model_file);
+    results.set_root_attribute("model_file", s.ring_model.file);
+    // modal_coordinates holds the ring's coordinates, then the housing's.
+    results.set_root_attribute("housing", s.housing_model ? "flexible" : "rigid");
+    results.set_root_attribute("housing_coordinates", static_cast<double>(ring.housing_coordinates));
+    if (s.housing_model)
+      results.set_root_attribute("housing_model_file", s.housing_model->file);
     results.set_root_attribute("model_input_hash", model.input_hash);
     results.set_root_attribute("stress_components",
                                "xx (circumferential), yy (axial), zz (radial, depth into the ring), yz, xz, xy; "
@@ -500,9 +582,11 @@ namespace fretsim::scenes
     summary.set("status", std::string(report.completed ? "complete" : (failure.empty() ? "interrupted" : "failed")));
     if (!failure.empty())
       summary.set("error", failure);
-    summary.set("model_file", s.model_file);
+    summary.set("model_file", s.ring_model.file);
     summary.set("model_built", built);
     summary.set("reduced_coordinates", static_cast<long long>(ring.n));
+    summary.set("housing", std::string(s.housing_model ? "flexible" : "rigid"));
+    summary.set("housing_coordinates", static_cast<long long>(ring.housing_coordinates));
     summary.set("interface_grid_cells", static_cast<long long>(cells));
     summary.set("ball_count", static_cast<long long>(s.run.bearing.ball_count));
     summary.set("pitch_diameter_m", s.run.bearing.pitch_diameter);

@@ -109,6 +109,86 @@ TEST(BearingScene, RunsEndToEndAndTheInterfaceSeesTheBallPass)
   EXPECT_EQ(again.output.find("building it"), std::string::npos) << again.output;
 }
 
+TEST(BearingScene, AFlexibleHousingTakesItsShareAndAStiffOneIsTheRigidHousing)
+{
+  // The housing as its own Craig–Bampton model (held at its outside, reduced
+  // on its bore on the ring's grid). 10^4 times stiffer than steel it must
+  // give the rigid housing's pressure; of steel it gives way, so the balls of
+  // the displaced inner ring carry less. The layer's damping is off here: with
+  // it the stiff housing's MHz modes, whose velocities the integrator holds
+  // only loosely, put single-sample spikes of c_n ḋ into the pressure.
+  const auto dir = scratch_directory("bearing_scene_housing");
+  write_text(dir / "ring.prm", small_ring);
+  const std::string housing = "set Scene = ring_housing\n"
+                              "subsection Mesh\n  set Bodies = housing\n  set Element degree = 1\nend\n"
+                              "subsection Divisions\n  set Circumferential = 48\n  set Radial housing = 2\n"
+                              "  set Axial = 2\n  set Axial land = 1\nend\n"
+                              "subsection Reduction\n  set Coupling surfaces = housing_bore\n"
+                              "  set Clamped surfaces = housing_outer\n  set Fixed-interface modes = 10\n"
+                              "  set Characteristic constraint modes = 30\n  set Compare with full FE = false\n"
+                              "  set Interface grid circumferential cells = 72\n  set Interface grid axial cells = 4\n"
+                              "  set Sample points per line = 8\n  set Raceway ball positions = 0\nend\n";
+  write_text(dir / "housing.prm", housing);
+  write_text(dir / "stiff.prm", housing + "subsection Housing material\n  set Young's modulus = 2.08e15\nend\n");
+  const auto run = [&](const std::string &name, const std::string &housing_config) {
+    const std::string extra = "subsection Interface\n  set Damping time = 0\nend\n"
+                              "subsection Model\n  set Housing reduction configuration = " + housing_config +
+                              "\n  set Housing model file = " + (dir / (name + "-model.h5")).string() + "\nend\n";
+    write_text(dir / (name + ".scene.prm"), scene(dir, extra));
+    const auto result = run_program("run " + (dir / (name + ".scene.prm")).string() + " -q --no-plots -o " +
+                                    (dir / name).string() + " --set 'Loading/Ball pass periods=2'");
+    EXPECT_EQ(result.exit_code, 0) << result.output;
+    return (dir / name / "results.h5").string();
+  };
+  const auto rigid = run("rigid", ""), stiff = run("stiff", "stiff.prm"), steel = run("steel", "housing.prm");
+
+  EXPECT_EQ(ResultsFile::read_string_attribute(steel, "/", "housing"), "flexible");
+  EXPECT_EQ(ResultsFile::read_string_attribute(rigid, "/", "housing"), "rigid");
+  std::vector<std::size_t> dims;
+  ResultsFile::read_dataset(steel, "/fields/modal_coordinates", &dims);
+  ASSERT_EQ(dims.size(), 2u);
+  EXPECT_EQ(dims[1], 40u + 40u); // the ring's 30 + 10 coordinates, then the housing's
+
+  // Stiff housing = rigid housing: the pressure field at every sample within
+  // 5 % of its peak (measured 2 %: the step sequences differ).
+  const auto p_rigid = ResultsFile::read_dataset(rigid, "/fields/pressure", &dims);
+  const auto p_stiff = ResultsFile::read_dataset(stiff, "/fields/pressure");
+  ASSERT_EQ(p_rigid.size(), p_stiff.size());
+  const std::size_t cells = dims[1] * dims[2];
+  double            worst = 0.0;
+  for (std::size_t k = 1; k < dims[0]; ++k)
+    {
+      double difference = 0.0, peak = 0.0;
+      for (std::size_t c = 0; c < cells; ++c)
+        {
+          difference = std::max(difference, std::abs(p_rigid[k * cells + c] - p_stiff[k * cells + c]));
+          peak       = std::max(peak, p_rigid[k * cells + c]);
+        }
+      worst = std::max(worst, difference / peak);
+    }
+  std::printf("stiff housing against rigid: pressure %.3g of the peak at worst\n", worst);
+  EXPECT_LT(worst, 0.05);
+
+  // Steel: the housing gives way, the balls carry less (the inner ring's
+  // displacement is prescribed), and what they push still ends in the housing.
+  const auto loads_rigid = ResultsFile::read_dataset(rigid, "/fields/ball_load");
+  const auto loads_steel = ResultsFile::read_dataset(steel, "/fields/ball_load");
+  const double peak_rigid = *std::max_element(loads_rigid.begin(), loads_rigid.end()),
+               peak_steel = *std::max_element(loads_steel.begin(), loads_steel.end());
+  std::printf("peak ball load: rigid housing %.1f N, steel housing %.1f N\n", peak_rigid, peak_steel);
+  EXPECT_LT(peak_steel, 0.995 * peak_rigid);
+  EXPECT_GT(peak_steel, 0.9 * peak_rigid);
+  const auto interface = ResultsFile::read_dataset(steel, "/series/interface_force_y");
+  const auto balls     = ResultsFile::read_dataset(steel, "/series/ball_load_total_y");
+  EXPECT_NEAR(interface.back(), -balls.back(), 0.01 * balls.back());
+
+  // `compare` re-solves the ring on the rigid housing only: it refuses.
+  const auto compare = run_program("compare " + (dir / "steel.scene.prm").string() + " -q --no-plots -o " +
+                                   (dir / "compare").string());
+  EXPECT_EQ(compare.exit_code, 2) << compare.output;
+  EXPECT_NE(compare.output.find("Model/Housing reduction configuration"), std::string::npos) << compare.output;
+}
+
 TEST(BearingScene, BadInputExitsWithTwoNamingTheParameterAndWritesNothing)
 {
   const auto dir = scratch_directory("bearing_scene_bad");
@@ -121,7 +201,10 @@ TEST(BearingScene, BadInputExitsWithTwoNamingTheParameterAndWritesNothing)
                         Case{"subsection Model\n  set Reduction configuration = missing.prm\nend\n",
                              "Model/Reduction configuration"},
                         Case{"subsection Model\n  set Build if missing = false\nend\n", "Model/Model file"},
-                        Case{"subsection Bearing\n  set Ball diameter = 0.05\nend\n", "Bearing/Ball diameter"}})
+                        Case{"subsection Bearing\n  set Ball diameter = 0.05\nend\n", "Bearing/Ball diameter"},
+                        // a ring is not a housing
+                        Case{"subsection Model\n  set Housing reduction configuration = ring.prm\nend\n",
+                             "Model/Housing reduction configuration"}})
     {
       write_text(dir / "scene.prm", scene(dir, c.extra));
       const auto out    = dir / "out";

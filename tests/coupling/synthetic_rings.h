@@ -46,6 +46,25 @@ namespace fretsim::coupling::synthetic
     return ring;
   }
 
+  /// A housing whose bore moves as a rigid circle (h_x, h_y) held by a
+  /// spring of stiffness k [N/m] in x and y, mass m: u_r = h_x cos θ + h_y sin θ,
+  /// u_θ = -h_x sin θ + h_y cos θ, u_z = 0 on the same grid as rigid_ring's.
+  inline ReducedHousing sprung_housing(double radius, double width, double mass, double stiffness, int cells_around,
+                                       int cells_across)
+  {
+    const ReducedRing rigid = rigid_ring(radius, width, mass, cells_around, cells_across, 4);
+    ReducedHousing    housing;
+    housing.n                = 2;
+    housing.mass             = {mass, 0.0, 0.0, mass};
+    housing.stiffness        = {stiffness, 0.0, 0.0, stiffness};
+    housing.interface_radius = radius;
+    housing.interface_grid   = rigid.interface_grid;
+    for (std::size_t row = 0; row < rigid.interface_grid.size() * 3; ++row)
+      housing.interface_displacement.insert(housing.interface_displacement.end(),
+                                            {rigid.interface_displacement[row * 4], rigid.interface_displacement[row * 4 + 1]});
+    return housing;
+  }
+
   /// Random operators and an SPD mass/stiffness of size n (for transfer and
   /// derivative checks, not physics).
   inline ReducedRing random_ring(std::size_t n, int cells_around, int cells_across, unsigned seed)

@@ -297,3 +297,58 @@ TEST(BallContactLaw, DampingNeverPullsAndVanishesWithoutContact)
   const auto q = ball_load(1e10, 1.0, 1e-6, 0.1);
   EXPECT_NEAR(q.load, 1e10 * 1e-9 * 1.15, 1e-9);
 }
+
+TEST(FlexibleHousing, TheJointOperatorIsTheRelativeDisplacementAndTheBodiesStayUncoupledStructurally)
+{
+  const auto ring    = synthetic::random_ring(5, 24, 4, 7);
+  const auto other   = synthetic::random_ring(3, 24, 4, 8);
+  ReducedHousing housing;
+  housing.n                      = 3;
+  housing.mass                   = other.mass;
+  housing.stiffness              = other.stiffness;
+  housing.interface_radius       = other.interface_radius;
+  housing.interface_grid         = other.interface_grid;
+  housing.interface_displacement = other.interface_displacement;
+  const auto joint = with_flexible_housing(ring, housing);
+  ASSERT_EQ(joint.n, 8u);
+  EXPECT_EQ(joint.housing_coordinates, 3u);
+  EXPECT_NO_THROW(joint.check());
+  // Block-diagonal mass and stiffness: the bodies meet only through the contact.
+  for (std::size_t i = 0; i < 8; ++i)
+    for (std::size_t j = 0; j < 8; ++j)
+      {
+        const bool   ring_block = i < 5 && j < 5, housing_block = i >= 5 && j >= 5;
+        const double mass = ring_block ? ring.mass[i * 5 + j] : housing_block ? housing.mass[(i - 5) * 3 + j - 5] : 0.0;
+        const double stiffness =
+          ring_block ? ring.stiffness[i * 5 + j] : housing_block ? housing.stiffness[(i - 5) * 3 + j - 5] : 0.0;
+        EXPECT_EQ(joint.mass[i * 8 + j], mass);
+        EXPECT_EQ(joint.stiffness[i * 8 + j], stiffness);
+      }
+  // The interface sees u_ring - u_housing; the balls only the ring.
+  for (std::size_t row = 0; row < ring.interface_grid.size() * 3; ++row)
+    {
+      for (std::size_t j = 0; j < 5; ++j)
+        EXPECT_EQ(joint.interface_displacement[row * 8 + j], ring.interface_displacement[row * 5 + j]);
+      for (std::size_t j = 0; j < 3; ++j)
+        EXPECT_EQ(joint.interface_displacement[row * 8 + 5 + j], -housing.interface_displacement[row * 3 + j]);
+    }
+  for (std::size_t k = 0; k < ring.raceway_angles; ++k)
+    for (std::size_t j = 0; j < 8; ++j)
+      EXPECT_EQ(joint.raceway_approach[k * 8 + j], j < 5 ? ring.raceway_approach[k * 5 + j] : 0.0);
+
+  // A housing on another grid is refused, naming both grids.
+  ReducedHousing coarse = housing;
+  coarse.interface_grid.nx = 12;
+  coarse.interface_grid.hx *= 2.0;
+  coarse.interface_displacement.resize(coarse.interface_grid.size() * 3 * 3);
+  try
+    {
+      with_flexible_housing(ring, coarse);
+      FAIL() << "a housing on another grid was accepted";
+    }
+  catch (const std::invalid_argument &error)
+    {
+      EXPECT_NE(std::string(error.what()).find("12 x 4"), std::string::npos) << error.what();
+      EXPECT_NE(std::string(error.what()).find("24 x 4"), std::string::npos) << error.what();
+    }
+}

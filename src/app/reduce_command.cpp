@@ -593,8 +593,10 @@ namespace fretsim::app
         const Accuracy accuracy = measure(cb, m, result.free_frequencies_hz, full, model, map.get(), sampler.get());
         if (root)
           {
-            out << (request.clamped_surfaces.empty() ? "lowest 10 free-free elastic modes" : "lowest 10 modes (clamped supports)") << " (full FE modal solve " << std::fixed << std::setprecision(2)
-                << full.modal_seconds << " s):\n" << std::defaultfloat;
+            out << (request.clamped_surfaces.empty() ? "lowest 10 free-free elastic modes"
+                                                     : "lowest 10 modes (clamped supports)")
+                << " (full FE modal solve " << std::fixed << std::setprecision(2) << full.modal_seconds << " s):\n"
+                << std::defaultfloat;
             print_comparison(out, full.free_frequencies_hz, elastic(result.free_frequencies_hz, 10));
             out << std::scientific << std::setprecision(2) << "max frequency error: " << accuracy.frequency_error
                 << "\n";

@@ -48,10 +48,7 @@ namespace fretsim::scenes
       spec.kind = app::ParameterSpec::Kind::real_list;
       return spec;
     }
-  } // namespace
 
-  namespace
-  {
     /// Where a body's reduced model comes from: its reduction configuration,
     /// the model file, and the fingerprint of the configuration's inputs.
     struct ModelSource
@@ -74,7 +71,7 @@ namespace fretsim::scenes
           if (!build)
             scene.reject(source.file_parameter, error.what());
           std::cerr << "bearing_housing: " << error.what() << "\n  building it with `fretsim reduce "
-                    << source.config << " -o " << source.file << "` (about 2 minutes for the 6208 ring)\n";
+                    << source.config << " -o " << source.file << "` (about 2 minutes for the 6208 ring or housing)\n";
           app::RingHousingCommandOptions reduce;
           reduce.config_file = source.config;
           reduce.output      = source.file;
@@ -343,38 +340,33 @@ namespace fretsim::scenes
   namespace
   {
     /// The co-simulation's view of a model file.
+    /// The parts every body's model has: matrices and the interface grid operator.
+    template <typename Body>
+    Body reduced_body(const reduction::ReducedModel &model)
+    {
+      Body body;
+      body.n                      = model.matrices.size();
+      body.mass                   = model.matrices.mass;
+      body.stiffness              = model.matrices.stiffness;
+      const auto &g               = model.interface_grid.grid;
+      body.interface_radius       = g.radius;
+      body.interface_grid         = {g.nx, g.ny, g.hx, g.hy, g.x_min, g.y_min};
+      body.interface_displacement = model.interface_grid.displacement;
+      return body;
+    }
+
     coupling::ReducedRing reduced_ring(const reduction::ReducedModel &model)
     {
-      coupling::ReducedRing ring;
-      ring.n         = model.matrices.size();
-      ring.mass      = model.matrices.mass;
-      ring.stiffness = model.matrices.stiffness;
+      auto ring = reduced_body<coupling::ReducedRing>(model);
       for (const double f : model.free_frequencies_hz)
         if (f >= 1.0)
           {
             ring.lowest_elastic_frequency_hz = f;
             break;
           }
-      const auto &g               = model.interface_grid.grid;
-      ring.interface_radius       = g.radius;
-      ring.interface_grid         = {g.nx, g.ny, g.hx, g.hy, g.x_min, g.y_min};
-      ring.interface_displacement = model.interface_grid.displacement;
-      ring.raceway_angles         = model.raceway.angles.size();
-      ring.raceway_approach       = model.raceway.approach;
+      ring.raceway_angles   = model.raceway.angles.size();
+      ring.raceway_approach = model.raceway.approach;
       return ring;
-    }
-
-    coupling::ReducedHousing reduced_housing(const reduction::ReducedModel &model)
-    {
-      coupling::ReducedHousing housing;
-      housing.n                      = model.matrices.size();
-      housing.mass                   = model.matrices.mass;
-      housing.stiffness              = model.matrices.stiffness;
-      const auto &g                  = model.interface_grid.grid;
-      housing.interface_radius       = g.radius;
-      housing.interface_grid         = {g.nx, g.ny, g.hx, g.hy, g.x_min, g.y_min};
-      housing.interface_displacement = model.interface_grid.displacement;
-      return housing;
     }
   } // namespace
 
@@ -404,7 +396,7 @@ namespace fretsim::scenes
         const auto housing_model = load_or_build(*s.housing_model, s.build_model, options.progress, parameters, built);
         try
           {
-            ring = coupling::with_flexible_housing(ring, reduced_housing(housing_model));
+            ring = coupling::with_flexible_housing(ring, reduced_body<coupling::ReducedHousing>(housing_model));
           }
         catch (const std::invalid_argument &error)
           {

@@ -176,6 +176,8 @@ TEST(BearingScene, AFlexibleHousingTakesItsShareAndAStiffOneIsTheRigidHousing)
   const double peak_rigid = *std::max_element(loads_rigid.begin(), loads_rigid.end()),
                peak_steel = *std::max_element(loads_steel.begin(), loads_steel.end());
   std::printf("peak ball load: rigid housing %.1f N, steel housing %.1f N\n", peak_rigid, peak_steel);
+  // Measured 1.7 % less: the housing gives a few micrometres (k_h ~ E' / wall ≈ 1e13 Pa/m over the loaded
+  // area) against the balls' ~30 µm Hertz deflection, so a few per cent, not tens.
   EXPECT_LT(peak_steel, 0.995 * peak_rigid);
   EXPECT_GT(peak_steel, 0.9 * peak_rigid);
   const auto interface = ResultsFile::read_dataset(steel, "/series/interface_force_y");

@@ -73,8 +73,8 @@ namespace fretsim::contact
   struct SurfaceConvolution::Impl
   {
     SurfaceGrid grid;
-    int         padded_nx = 0, padded_ny = 0; ///< 2 nx, 2 ny
-    int         spectrum_nx = 0;              ///< nx + 1: r2c keeps half the last dimension
+    int         padded_nx = 0, padded_ny = 0; ///< 2 nx (nx if periodic in x), 2 ny
+    int         spectrum_nx = 0;              ///< padded_nx / 2 + 1: r2c keeps half the last dimension
 
     /// K(di, dj) for di in [-(nx-1), nx-1], dj in [-(ny-1), ny-1], x fastest:
     /// the direct sum reads it instead of calling the std::function N^2 times.
@@ -129,7 +129,7 @@ namespace fretsim::contact
     }
   };
 
-  SurfaceConvolution::SurfaceConvolution(const SurfaceGrid &grid, const InfluenceFunction &kernel)
+  SurfaceConvolution::SurfaceConvolution(const SurfaceGrid &grid, const InfluenceFunction &kernel, bool periodic_x)
     : impl(std::make_unique<Impl>())
   {
     if (grid.nx <= 0 || grid.ny <= 0)
@@ -139,9 +139,11 @@ namespace fretsim::contact
 
     Impl &d        = *impl;
     d.grid         = grid;
-    d.padded_nx    = 2 * grid.nx;
+    // Periodic in x: no padding there; offsets di and di - nx then land on
+    // the same slot below, with the same value for a periodic kernel.
+    d.padded_nx    = periodic_x ? grid.nx : 2 * grid.nx;
     d.padded_ny    = 2 * grid.ny;
-    d.spectrum_nx  = grid.nx + 1;
+    d.spectrum_nx  = d.padded_nx / 2 + 1;
     d.table_nx     = 2 * grid.nx - 1;
     d.kernel_table.resize(static_cast<std::size_t>(d.table_nx) * (2 * grid.ny - 1));
     for (int dj = -(grid.ny - 1); dj <= grid.ny - 1; ++dj)

@@ -405,8 +405,11 @@ namespace fretsim::coupling
     {
       void *arkode;
       IntegratorStatistics &stats;
+      const InterfaceContact &interface;
       ~Counters()
       {
+        if (const auto *local = interface.local_compliance())
+          stats.local_compliance = local->statistics();
         long nfe = 0, nfi = 0;
         ARKStepGetNumSteps(arkode, &stats.steps);
         ARKStepGetNumRhsEvals(arkode, &nfe, &nfi);
@@ -418,7 +421,7 @@ namespace fretsim::coupling
         ARKStepGetNumLinSolvSetups(arkode, &stats.linear_setups);
         ARKStepGetLastStep(arkode, &stats.last_step);
       }
-    } counters{sun.arkode, d.stats};
+    } counters{sun.arkode, d.stats, d.interface};
 
     d.interface.accept(y, y + n);
     if (!emit(0.0))

@@ -71,6 +71,8 @@ namespace fretsim::coupling
     double last_step = 0.0, smallest_step = 0.0, largest_step = 0.0; ///< [s]
     double integrator_seconds = 0.0; ///< wall time inside ARKODE, contact loads excluded
     double contact_seconds    = 0.0; ///< wall time of the contact loads and their Jacobians
+    /// The interface's half-space solves, if it has one (in contact_seconds).
+    LocalCompliance::Statistics local_compliance;
   };
 
   class BearingCosimulation

@@ -1,6 +1,7 @@
 #include "coupling/ring_coupling.h"
 
 #include "coupling/bearing.h"
+#include "coupling/local_compliance.h"
 
 #include <fretsim/contact/bristle.h>
 
@@ -135,6 +136,13 @@ namespace fretsim::coupling
     std::vector<unsigned char> slipping;
     bool                       committing = false; ///< evaluating for accept()
 
+    // The half-space in series with the layer (InterfaceSettings::
+    // local_compliance_modulus), its last solution as the next one's start,
+    // the layer's slope there, and this evaluation's structural penetration
+    // and rate per cell.
+    std::unique_ptr<LocalCompliance> local;
+    contact::Field                   local_pressure, local_penetration, structural, structural_rate;
+
     Impl(const ReducedRing &ring, const InterfaceSettings &s)
       : settings(s)
       , cell_area(ring.interface_grid.cell_area())
@@ -151,6 +159,16 @@ namespace fretsim::coupling
         field->assign(cells, 0.0);
       loaded.assign(cells, 0);
       slipping.assign(cells, 0);
+      if (settings.local_compliance_modulus > 0.0)
+        {
+          const bool closed = std::abs(grid.nx * grid.hx - 2.0 * M_PI * radius) <= 1e-9 * radius;
+          local = std::make_unique<LocalCompliance>(grid, settings.local_compliance_modulus,
+                                                    settings.normal_stiffness, closed);
+          for (auto *field : {&local_pressure, &local_penetration})
+            field->assign(cells, 0.0);
+        }
+      structural.assign(cells, 0.0);
+      structural_rate.assign(cells, 0.0);
     }
 
     double dot(const float *values, const double *x) const
@@ -226,19 +244,33 @@ namespace fretsim::coupling
       const double k_t = settings.tangential_stiffness, mu = settings.friction_coefficient;
       const bool   jacobian = out.by_position != nullptr;
       VectorXd     force    = VectorXd::Zero(n);
+#pragma omp parallel for schedule(static)
+      for (std::size_t c = 0; c < cells; ++c)
+        {
+          double u_r = 0.0, u_r_rate = 0.0;
+          dot2(row(c, 0), q_data, v_data, u_r, u_r_rate);
+          structural[c]      = settings.radial_interference + u_r;
+          structural_rate[c] = u_r_rate;
+        }
+      if (local)
+        { // the layer on the half-space's give; its damping through the
+          // structural approach rate (w's rate is not in it)
+          for (std::size_t c = 0; c < cells; ++c)
+            local_penetration[c] = structural[c] + settings.normal_damping_time * structural_rate[c];
+          local->solve(local_penetration, local_pressure);
+        }
 #pragma omp parallel
       {
-        VectorXd local = VectorXd::Zero(n);
+        VectorXd local_force = VectorXd::Zero(n);
 #pragma omp for schedule(static)
         for (std::size_t c = 0; c < cells; ++c)
           {
             loaded[c] = 0;
-            double u_r = 0.0, u_r_rate = 0.0;
-            dot2(row(c, 0), q_data, v_data, u_r, u_r_rate);
-            const double penetration = settings.radial_interference + u_r;
             // Damping never pulls: a fast-opening cell carries no pressure.
-            const LayerPressure layer = layer_pressure(penetration, u_r_rate);
-            const double        p     = layer.pressure;
+            const LayerPressure layer =
+              local ? LayerPressure{local_pressure[c], settings.normal_stiffness, 0.0}
+                    : layer_pressure(structural[c], structural_rate[c]);
+            const double p = layer.pressure;
             trial_pressure[c] = p;
             if (p <= 0.0 && tau_x[c] == 0.0 && tau_y[c] == 0.0)
               {
@@ -281,19 +313,21 @@ namespace fretsim::coupling
               }
             trial_tau_x[c] = traction.x();
             trial_tau_y[c] = traction.y();
-            add_rows(c, cell_area * Eigen::Vector3d(-p, traction.x(), traction.y()), local.data());
+            add_rows(c, cell_area * Eigen::Vector3d(-p, traction.x(), traction.y()), local_force.data());
             if (!jacobian || p <= 0.0)
               continue;
             // A loaded cell is not damped out (p > 0): the traction depends on
             // the penetration through p (normal, and the bristle through μp),
             // on its rate through c_n = k_n τ_d the same way, and on the slip.
-            by_penetration[c] = Eigen::Vector3d(-1.0, by_pressure.x(), by_pressure.y()) * layer.by_penetration;
+            // (With the half-space, ∂p/∂d0 couples the cells: applied below.)
+            by_penetration[c] = Eigen::Vector3d(-1.0, by_pressure.x(), by_pressure.y()) *
+                                (local ? 1.0 : layer.by_penetration);
             band_share[c]     = layer.band_share;
             slip_stiffness[c] = by_slip;
             loaded[c]         = 1;
           }
 #pragma omp critical
-        force += local;
+        force += local_force;
       }
       Eigen::Map<VectorXd>(out.force, n) += force;
       if (!jacobian)
@@ -326,6 +360,14 @@ namespace fretsim::coupling
           for (int k = 0; k < 2; ++k)
             tangential_rows.row(2 * a + k) = std::sqrt(std::max(split.eigenvalues()[k], 0.0)) *
                                              (split.eigenvectors().col(k).transpose() * g.bottomRows(2));
+        }
+      if (local)
+        { // ∂p_A/∂d0_A = (C_AA + I/k_n)⁻¹: the radial rows through it
+          std::vector<double> sensitivity;
+          local->pressure_sensitivity(active,
+                                      std::vector<double>(radial_rows.data(), radial_rows.data() + m * size), n,
+                                      sensitivity);
+          radial_rows = Eigen::Map<const RowMatrix>(sensitivity.data(), m, size);
         }
       const Eigen::MatrixXd normal = cell_area * (normal_rows.transpose() * radial_rows);
       Eigen::MatrixXd       tangential = Eigen::MatrixXd::Zero(size, size);
@@ -401,6 +443,8 @@ namespace fretsim::coupling
   const contact::Field &InterfaceContact::pressure() const { return impl->pressure; }
   const contact::Field &InterfaceContact::shear_x() const { return impl->tau_x; }
   const contact::Field &InterfaceContact::shear_y() const { return impl->tau_y; }
+
+  const LocalCompliance *InterfaceContact::local_compliance() const { return impl->local.get(); }
 
   contact::Field InterfaceContact::effective_friction() const
   {

@@ -21,6 +21,8 @@
 //    work-conjugate approach r(ψ)·q of a Hertz-distributed unit ball load.
 //    Its fixed-interface modes resolve wavelengths of the order of the ring
 //    wall, not the sub-millimetre indentation, which they therefore leave to Hertz.
+#include "coupling/local_compliance.h"
+
 #include <fretsim/contact/surface_grid.h>
 
 #include <memory>
@@ -94,6 +96,10 @@ namespace fretsim::coupling
     /// p_s: the layer closes gradually over the first 2 p_s / k_n of
     /// penetration (InterfaceContact); 0: a sharp onset [Pa].
     double onset_pressure = 0.0;
+    /// E' [Pa] of the elastic half-space in series with the layer: the
+    /// interface's local compliance (LocalCompliance), 1/E' = Σ (1 - ν²)/E
+    /// over the bodies it stands for; 0: none, the layer alone.
+    double local_compliance_modulus = 0.0;
   };
 
   /// Loads and their derivatives at a trial state, added into caller arrays:
@@ -148,6 +154,8 @@ namespace fretsim::coupling
     /// Resultant of the housing's tractions on the ring in the Cartesian x, y
     /// directions [N] (last accepted state).
     void resultant(double &force_x, double &force_y) const;
+    /// The half-space in series with the layer, or null without one.
+    const LocalCompliance *local_compliance() const;
 
   private:
     struct Impl;

@@ -110,6 +110,7 @@ namespace fretsim::scenes
     bool                           build_model = true;
     coupling::CosimulationSettings run;
     double                         ring_poisson_ratio = 0.3;
+    std::string                    local_compliance   = "none"; ///< Interface/Local compliance
     int                            samples_per_ball_pass = 40;
     double                         ball_pass_frequency = 0.0;
     contact::StressEvaluatorSettings stress_evaluator;
@@ -177,6 +178,17 @@ namespace fretsim::scenes
                          "p_s: the layer closes gradually (C^1) up to the pressure 2 p_s and carries k_n x "
                          "penetration - p_s beyond; the damping acts through the same law, so that a closing cell's "
                          "pressure starts from zero. 0: sharp onset, p jumps by c_n x closing speed [Pa]."),
+      Spec::selection("Interface/Local compliance", "none",
+                      "Elastic half-space in series with the layer (Love's rectangles on the interface grid, "
+                      "periodic around the circumference): none (the layer alone), housing (the rigid housing's "
+                      "local elasticity, which nothing else models; the ring's comes from its reduced model), both "
+                      "(housing and ring: the ring's local compliance beyond what its interface modes resolve, "
+                      "counting its long wavelengths twice). Only none with a flexible housing.",
+                      "none|housing|both"),
+      Spec::positive("Interface/Housing Young's modulus", "2.08e11",
+                     "E of the rigid housing's material, for its local compliance [Pa]."),
+      Spec::real_range("Interface/Housing Poisson ratio", "0.3", "nu of the housing's material [-].", 0.0, 0.5,
+                       true),
       Spec::real_range("Interface/Radial interference", "0",
                        "Ring outer radius minus housing bore radius: > 0 interference fit, < 0 clearance, 0 "
                        "line-to-line (the paper: only the loaded half carries pressure) [m].",
@@ -307,6 +319,21 @@ namespace fretsim::scenes
     interface.normal_damping_time  = par.get_double("Interface/Damping time");
     interface.radial_interference  = par.get_double("Interface/Radial interference");
     interface.onset_pressure       = par.get_double("Interface/Onset pressure");
+    s.local_compliance = par.get("Interface/Local compliance");
+    if (const std::string local = s.local_compliance; local != "none")
+      {
+        if (s.housing_model)
+          par.reject("Interface/Local compliance",
+                     "none with a flexible housing (Model/Housing reduction configuration): its reduced model "
+                     "carries its compliance");
+        const double housing_poisson = par.get_double("Interface/Housing Poisson ratio");
+        double       compliance      = (1.0 - housing_poisson * housing_poisson) /
+                                par.get_double("Interface/Housing Young's modulus");
+        if (local == "both")
+          compliance += (1.0 - ring_material.poisson_ratio * ring_material.poisson_ratio) /
+                        ring_material.youngs_modulus;
+        interface.local_compliance_modulus = 1.0 / compliance;
+      }
     s.run.damping_ratio            = par.get_double("Ring/Damping ratio");
 
     auto &integrator                  = s.run.integrator;
@@ -442,6 +469,7 @@ namespace fretsim::scenes
     results.set_root_attribute("model_file", s.ring_model.file);
     // modal_coordinates holds the ring's coordinates, then the housing's.
     results.set_root_attribute("housing", s.housing_model ? "flexible" : "rigid");
+    results.set_root_attribute("local_compliance", s.local_compliance);
     results.set_root_attribute("housing_coordinates", static_cast<double>(ring.housing_coordinates));
     if (s.housing_model)
       results.set_root_attribute("housing_model_file", s.housing_model->file);
@@ -580,6 +608,8 @@ namespace fretsim::scenes
     summary.set("housing", std::string(s.housing_model ? "flexible" : "rigid"));
     summary.set("housing_coordinates", static_cast<long long>(ring.housing_coordinates));
     summary.set("interface_grid_cells", static_cast<long long>(cells));
+    summary.set("local_compliance", s.local_compliance);
+    summary.set("local_compliance_modulus_Pa", s.run.interface.local_compliance_modulus);
     summary.set("ball_count", static_cast<long long>(s.run.bearing.ball_count));
     summary.set("pitch_diameter_m", s.run.bearing.pitch_diameter);
     summary.set("ball_contact_stiffness_N_per_m1.5", s.run.ball_stiffness);
@@ -613,6 +643,16 @@ namespace fretsim::scenes
     integrator.set("smallest_step_s", stats.smallest_step);
     integrator.set("largest_step_s", stats.largest_step);
     summary.set_object("integrator", integrator);
+    if (s.local_compliance != "none")
+      { // the half-space's share of the contact time, in convolutions
+        output::Summary local;
+        local.set("pressure_solves", static_cast<long long>(stats.local_compliance.solves));
+        local.set("pressure_convolutions", static_cast<long long>(stats.local_compliance.solve_convolutions));
+        local.set("jacobian_sensitivities", static_cast<long long>(stats.local_compliance.sensitivities));
+        local.set("jacobian_convolutions", static_cast<long long>(stats.local_compliance.sensitivity_convolutions));
+        local.set("jacobian_reuses", static_cast<long long>(stats.local_compliance.sensitivity_reuses));
+        summary.set_object("local_compliance_solver", local);
+      }
     output::Summary stage_times;
     stage_times.set("model", model_seconds);
     stage_times.set("integrator", stats.integrator_seconds);

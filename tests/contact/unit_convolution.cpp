@@ -163,6 +163,39 @@ TEST(SurfaceConvolution, FftEqualsDirectOnNonSquareGrid)
     }
 }
 
+TEST(SurfaceConvolution, PeriodicInXIsTheDirectSumOverTheNearestImage)
+{
+  // A grid closed in x (the unrolled ring): with a periodic kernel the
+  // unpadded FFT is the direct sum (which reads the same kernel), and a load
+  // shifted across the seam gives the shifted result. Odd and even nx.
+  for (const int nx : {37, 24})
+    {
+      const auto grid     = SurfaceGrid::centred(nx, 9, 1.0, 0.3);
+      const auto periodic = [nx](int di, int dj) {
+        di = ((di % nx) + nx) % nx;
+        if (di > nx / 2)
+          di -= nx;
+        return asymmetric_kernel(di, dj);
+      };
+      const SurfaceConvolution convolution(grid, periodic, true);
+      const Field              load = random_field(grid, 5);
+      Field                    fft, direct, shifted_fft;
+      convolution.apply(load, fft);
+      convolution.apply_direct(load, direct);
+      EXPECT_LT(max_abs_difference(fft, direct) / max_abs(direct), 1e-12) << nx;
+      Field shifted(load.size());
+      for (int j = 0; j < grid.ny; ++j)
+        for (int i = 0; i < nx; ++i)
+          shifted[grid.index((i + 5) % nx, j)] = load[grid.index(i, j)];
+      convolution.apply(shifted, shifted_fft);
+      double worst = 0.0;
+      for (int j = 0; j < grid.ny; ++j)
+        for (int i = 0; i < nx; ++i)
+          worst = std::max(worst, std::abs(shifted_fft[grid.index((i + 5) % nx, j)] - fft[grid.index(i, j)]));
+      EXPECT_LT(worst / max_abs(fft), 1e-12) << nx;
+    }
+}
+
 TEST(SurfaceConvolution, UnitLoadInACornerReproducesTheKernel)
 {
   // A unit load at one corner cell must give K(i - i0, j - j0) over the whole

@@ -18,7 +18,10 @@ namespace fretsim::contact
   class SurfaceConvolution
   {
   public:
-    SurfaceConvolution(const SurfaceGrid &grid, const InfluenceFunction &kernel);
+    /// periodic_x: the grid closes on itself in x (the unrolled cylinder);
+    /// x is then not padded, and the kernel must be periodic,
+    /// K(di, dj) = K(di ± nx, dj) (e.g. the nearest image's coefficient).
+    SurfaceConvolution(const SurfaceGrid &grid, const InfluenceFunction &kernel, bool periodic_x = false);
     ~SurfaceConvolution();
     SurfaceConvolution(SurfaceConvolution &&) noexcept;
     SurfaceConvolution &operator=(SurfaceConvolution &&) noexcept;

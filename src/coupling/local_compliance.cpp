@@ -1,0 +1,280 @@
+#include "coupling/local_compliance.h"
+
+#include <fretsim/contact/convolution.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace fretsim::coupling
+{
+  struct LocalCompliance::Impl
+  {
+    contact::SurfaceGrid        grid;
+    contact::SurfaceConvolution compliance;
+    double                      layer_compliance; ///< 1/k_n [m/Pa]
+    double                      self = 0.0;
+    double                      uniform = 0.0; ///< the largest displacement under p = 1 everywhere [m/Pa]
+    contact::Field              full, response, gap, direction; // work arrays
+    Statistics                  statistics;
+    /// The last sensitivity per grid cell and column: the next one's start,
+    /// or the answer itself while the loaded cells stay nearly the same (the
+    /// operator depends on nothing else).
+    std::vector<double>        last_sensitivity;
+    std::vector<std::size_t>   last_loaded;
+    std::vector<unsigned char> last_known; ///< per grid cell: in last_loaded
+    std::size_t              last_columns = 0;
+
+    Impl(const contact::SurfaceGrid &g, double modulus, double layer_stiffness, bool periodic_x)
+      : grid(g)
+      , compliance(g,
+                   [g, modulus, periodic_x](int di, int dj) {
+                     // On the closed circumference the nearest image acts
+                     // (a periodic kernel, convolved without padding in x).
+                     if (periodic_x)
+                       {
+                         di = ((di % g.nx) + g.nx) % g.nx;
+                         if (di > g.nx / 2)
+                           di -= g.nx;
+                       }
+                     return contact::influence::normal_displacement(di * g.hx, dj * g.hy, g.hx, g.hy, modulus);
+                   },
+                   periodic_x)
+      , layer_compliance(1.0 / layer_stiffness)
+      , self(contact::influence::normal_displacement(0.0, 0.0, g.hx, g.hy, modulus))
+    {
+      for (auto *field : {&full, &response, &gap, &direction})
+        field->assign(g.size(), 0.0);
+      std::fill(full.begin(), full.end(), 1.0);
+      compliance.apply(full, response);
+      uniform = *std::max_element(response.begin(), response.end()) + layer_compliance;
+    }
+
+    /// out = (C + I/k_n) in, on the whole grid.
+    void apply(const contact::Field &in, contact::Field &out, std::size_t &count)
+    {
+      ++count;
+      compliance.apply(in, out);
+      for (std::size_t c = 0; c < in.size(); ++c)
+        out[c] += layer_compliance * in[c];
+    }
+  };
+
+  LocalCompliance::LocalCompliance(const contact::SurfaceGrid &grid, double contact_modulus, double layer_stiffness,
+                                   bool periodic_x)
+  {
+    if (!(contact_modulus > 0.0) || !std::isfinite(contact_modulus))
+      throw std::invalid_argument("local compliance: the contact modulus must be positive and finite");
+    if (!(layer_stiffness > 0.0) || !std::isfinite(layer_stiffness))
+      throw std::invalid_argument("local compliance: the layer stiffness must be positive and finite");
+    impl = std::make_unique<Impl>(grid, contact_modulus, layer_stiffness, periodic_x);
+  }
+
+  LocalCompliance::~LocalCompliance() = default;
+
+  double LocalCompliance::self_compliance() const { return impl->self; }
+
+  const LocalCompliance::Statistics &LocalCompliance::statistics() const { return impl->statistics; }
+
+  void LocalCompliance::displacement(const contact::Field &pressure, contact::Field &displacement) const
+  {
+    impl->compliance.apply(pressure, displacement);
+  }
+
+  int LocalCompliance::solve(const contact::Field &b, contact::Field &p)
+  {
+    auto             &d     = *impl;
+    const std::size_t cells = d.grid.size();
+    double            scale = 0.0;
+    for (const double value : b)
+      scale = std::max(scale, value);
+    if (scale <= 0.0)
+      { // nothing penetrates: the half-space only pushes the surfaces apart
+        std::fill(p.begin(), p.end(), 0.0);
+        return 0;
+      }
+    const double tolerance = 1e-7 * scale;
+    ++d.statistics.solves;
+    // Polonsky & Keer (Wear 231, 1999) with the approach given: conjugate
+    // directions on the loaded cells, cells that would pull dropped, open
+    // cells that penetrate taken in along the gradient with the same step
+    // (and the directions restarted).
+    // A start below the solution when no cell is loaded: the pressure that
+    // the same penetration everywhere would need.
+    const auto start_from_uniform = [&]() {
+      for (std::size_t c = 0; c < cells; ++c)
+        p[c] = std::max(b[c], 0.0) / d.uniform;
+    };
+    double previous    = 1.0;
+    bool   restart     = true;
+    bool   gap_current = false;
+    std::fill(d.direction.begin(), d.direction.end(), 0.0);
+    constexpr int max_iterations = 2000;
+    for (int it = 0; it < max_iterations; ++it)
+      {
+        if (std::all_of(p.begin(), p.end(), [](double value) { return value <= 0.0; }))
+          {
+            start_from_uniform();
+            restart     = true;
+            gap_current = false;
+          }
+        if (!gap_current)
+          {
+            d.apply(p, d.gap, d.statistics.solve_convolutions);
+            for (std::size_t c = 0; c < cells; ++c)
+              d.gap[c] -= b[c];
+          }
+        double squared = 0.0, worst = 0.0;
+        for (std::size_t c = 0; c < cells; ++c)
+          {
+            if (p[c] > 0.0)
+              {
+                squared += d.gap[c] * d.gap[c];
+                worst = std::max(worst, std::abs(d.gap[c]));
+              }
+            else if (d.gap[c] < 0.0)
+              worst = std::max(worst, -d.gap[c]);
+          }
+        if (worst <= tolerance)
+          return it;
+        const double ratio = restart ? 0.0 : squared / previous;
+        previous           = squared;
+        for (std::size_t c = 0; c < cells; ++c)
+          d.direction[c] = p[c] > 0.0 ? d.gap[c] + ratio * d.direction[c] : 0.0;
+        d.apply(d.direction, d.response, d.statistics.solve_convolutions);
+        double along = 0.0, curvature = 0.0;
+        for (std::size_t c = 0; c < cells; ++c)
+          if (p[c] > 0.0)
+            {
+              along += d.gap[c] * d.direction[c];
+              curvature += d.response[c] * d.direction[c];
+            }
+        const double length = curvature > 0.0 ? along / curvature : 0.0;
+        restart             = false;
+        bool clipped        = false;
+        for (std::size_t c = 0; c < cells; ++c)
+          {
+            if (p[c] > 0.0)
+              {
+                const double next = p[c] - length * d.direction[c];
+                clipped           = clipped || next < 0.0;
+                p[c]              = std::max(next, 0.0);
+              }
+            else if (d.gap[c] < 0.0)
+              {
+                p[c]    = -length * d.gap[c];
+                restart = true;
+              }
+          }
+        // Without cells dropped or taken in, the step's gap follows from the
+        // direction's response: one convolution per iteration instead of two.
+        gap_current = !clipped && !restart;
+        if (gap_current)
+          for (std::size_t c = 0; c < cells; ++c)
+            d.gap[c] -= length * d.response[c];
+      }
+    throw std::runtime_error("local compliance: the interface pressure did not converge in " +
+                             std::to_string(max_iterations) + " conjugate gradient iterations");
+  }
+
+  void LocalCompliance::pressure_sensitivity(const std::vector<std::size_t> &loaded, const std::vector<double> &rhs,
+                                             std::size_t columns, std::vector<double> &result)
+  {
+    auto               &d = *impl;
+    const std::size_t   m = loaded.size();
+    std::vector<double> x(m), r(m), z(m), s(m), as(m);
+    const auto          apply = [&](const std::vector<double> &in, std::vector<double> &out) {
+      std::fill(d.full.begin(), d.full.end(), 0.0);
+      for (std::size_t a = 0; a < m; ++a)
+        d.full[loaded[a]] = in[a];
+      d.apply(d.full, d.response, d.statistics.sensitivity_convolutions);
+      for (std::size_t a = 0; a < m; ++a)
+        out[a] = d.response[loaded[a]];
+    };
+    const auto dot = [m](const std::vector<double> &u, const std::vector<double> &v) {
+      double sum = 0.0;
+      for (std::size_t a = 0; a < m; ++a)
+        sum += u[a] * v[a];
+      return sum;
+    };
+    ++d.statistics.sensitivities;
+    result.assign(m * columns, 0.0);
+    if (d.last_columns != columns)
+      {
+        d.last_sensitivity.assign(d.grid.size() * columns, 0.0);
+        d.last_known.assign(d.grid.size(), 0);
+        d.last_columns = columns;
+        d.last_loaded.clear();
+      }
+    else
+      { // Newton's matrix needs no more than this: while the loaded set
+        // differs from the last computed one in at most 2 % of its cells,
+        // the last sensitivity serves (a cell new to it starts as a lone
+        // cell), as ARKODE itself keeps a Jacobian over many steps.
+        std::size_t differ = 0;
+        for (const std::size_t c : loaded)
+          differ += !d.last_known[c];
+        differ += d.last_loaded.size() + differ - m; // cells dropped
+        if (!d.last_loaded.empty() && differ <= m / 50)
+          {
+            for (std::size_t a = 0; a < m; ++a)
+              for (std::size_t j = 0; j < columns; ++j)
+                result[a * columns + j] = d.last_known[loaded[a]]
+                                            ? d.last_sensitivity[loaded[a] * columns + j]
+                                            : rhs[a * columns + j] / (d.self + d.layer_compliance);
+            ++d.statistics.sensitivity_reuses;
+            return;
+          }
+      }
+    for (std::size_t j = 0; j < columns; ++j)
+      {
+        double b_norm = 0.0;
+        for (std::size_t a = 0; a < m; ++a)
+          {
+            r[a]   = rhs[a * columns + j];
+            b_norm = std::max(b_norm, std::abs(r[a]));
+          }
+        if (b_norm == 0.0)
+          continue;
+        // Conjugate gradients on the symmetric positive definite C_AA + I/k_n,
+        // from the last solution (the loaded set and the operator change
+        // little between Jacobians); 1e-4 is ample for Newton's matrix.
+        for (std::size_t a = 0; a < m; ++a)
+          x[a] = d.last_sensitivity[loaded[a] * columns + j];
+        apply(x, as);
+        for (std::size_t a = 0; a < m; ++a)
+          r[a] -= as[a];
+        s          = r;
+        double rr  = dot(r, r);
+        int    it  = 0;
+        for (; it < 1000; ++it)
+          {
+            double worst = 0.0;
+            for (std::size_t a = 0; a < m; ++a)
+              worst = std::max(worst, std::abs(r[a]));
+            if (worst <= 1e-4 * b_norm)
+              break;
+            apply(s, as);
+            const double alpha = rr / dot(s, as);
+            for (std::size_t a = 0; a < m; ++a)
+              {
+                x[a] += alpha * s[a];
+                r[a] -= alpha * as[a];
+              }
+            const double rr_next = dot(r, r);
+            for (std::size_t a = 0; a < m; ++a)
+              s[a] = r[a] + rr_next / rr * s[a];
+            rr = rr_next;
+          }
+        if (it == 1000)
+          throw std::runtime_error("local compliance: the pressure sensitivity did not converge");
+        for (std::size_t a = 0; a < m; ++a)
+          result[a * columns + j] = d.last_sensitivity[loaded[a] * columns + j] = x[a];
+      }
+    d.last_loaded = loaded;
+    std::fill(d.last_known.begin(), d.last_known.end(), 0);
+    for (const std::size_t c : loaded)
+      d.last_known[c] = 1;
+  }
+} // namespace fretsim::coupling

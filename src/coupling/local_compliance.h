@@ -1,0 +1,69 @@
+#pragma once
+// The interface's local compliance: an elastic half-space (Love's uniform
+// rectangles, DESIGN.md §2.2) in series with the Winkler layer, on the
+// unrolled interface grid (periodic around the circumference). Given each
+// cell's structural penetration d0 (fit + the ring's u_r, from the reduced
+// model), the pressure solves
+//     p = k_n (d0 - C p)  where p > 0,   C the half-space compliance,
+// so that the half-space's give w = C p spreads the pressure the way the
+// housing's (and the ring's) local elasticity does. The layer then becomes a
+// penalty: its compliance 1/k_n adds to the half-space's, and for k_n far
+// above the half-space's stiffness the pressure tends to the complementarity
+// solution of the half-space alone.
+#include <fretsim/contact/surface_grid.h>
+
+#include <memory>
+#include <vector>
+
+namespace fretsim::coupling
+{
+  class LocalCompliance
+  {
+  public:
+    /// `contact_modulus` E' [Pa]: 1/E' = Σ (1 - ν²)/E over the bodies whose
+    /// local compliance the half-space stands for. `layer_stiffness` k_n
+    /// [Pa/m] of the layer in series. `periodic_x`: the grid's x is the whole
+    /// circumference (distances wrap around).
+    LocalCompliance(const contact::SurfaceGrid &grid, double contact_modulus, double layer_stiffness,
+                    bool periodic_x);
+    ~LocalCompliance();
+
+    /// Solves the contact of the layer on the half-space for the structural
+    /// penetration b [m] per cell (fit + the ring's u_r, plus τ_d ḋ0 for the
+    /// layer's damping): p ≥ 0, g = (C + I/k_n) p - b ≥ 0, p g = 0, the
+    /// bound-constrained quadratic program of Polonsky & Keer's conjugate
+    /// gradient method (without their load constraint: the approach is
+    /// given). Starts from `pressure` and stops when the gap is within
+    /// 1e-7 × max b of zero on the loaded cells (and no open cell
+    /// penetrates by more). Returns the iterations (one convolution each);
+    /// throws std::runtime_error if it does not converge.
+    int solve(const contact::Field &structural_penetration, contact::Field &pressure);
+
+    /// (C_AA + I/k_n)⁻¹ R over the loaded cells A, i.e. ∂p_A/∂b_A applied to
+    /// R: `rhs` and `result` are [cells of A][columns] row-major. R must be
+    /// the same rows per cell from call to call (the interface operator):
+    /// while A differs from the last computed set in at most 2 % of its
+    /// cells, the last answer is returned (for Newton's matrix only).
+    void pressure_sensitivity(const std::vector<std::size_t> &loaded, const std::vector<double> &rhs,
+                              std::size_t columns, std::vector<double> &result);
+
+    /// w = C p [m].
+    void displacement(const contact::Field &pressure, contact::Field &displacement) const;
+
+    /// Compliance of a cell under its own unit pressure [m/Pa].
+    double self_compliance() const;
+
+    /// Work done so far, in convolutions (the cost of both calls).
+    struct Statistics
+    {
+      std::size_t solves = 0, solve_convolutions = 0;
+      std::size_t sensitivities = 0, sensitivity_convolutions = 0;
+      std::size_t sensitivity_reuses = 0; ///< sensitivities answered from the last one (loaded set within 2 %)
+    };
+    const Statistics &statistics() const;
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> impl;
+  };
+} // namespace fretsim::coupling

@@ -1,0 +1,174 @@
+// The interface's local compliance (local_compliance.h): the layer in series
+// with an elastic half-space, solved as Polonsky & Keer's bound-constrained
+// problem with the approach given. Checked against Hertz (REFERENCES.md §1),
+// the layer-only limit, the wrap-around of the closed circumference, and its
+// sensitivity inside the interface Jacobian against finite differences.
+#include "coupling/local_compliance.h"
+#include "coupling/ring_coupling.h"
+#include "synthetic_rings.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+using namespace fretsim;
+using namespace fretsim::coupling;
+
+namespace
+{
+  double largest(const contact::Field &field) { return *std::max_element(field.begin(), field.end()); }
+} // namespace
+
+TEST(LocalCompliance, ASpherePressedIntoTheHalfSpaceCarriesHertzsLoadAndPeak)
+{
+  // Sphere R = 10 mm on a half-space of E' = E/(1 - ν²), approach δ = 2 µm:
+  // a = √(Rδ) = 141 µm, P = (4/3) E' √R δ^{3/2}, p0 = 2 E' a / (π R).
+  // A layer of 1e21 Pa/m adds 1e-21 m/Pa to a cell's 4e-17 m/Pa: nothing.
+  const double radius = 0.01, approach = 2e-6, modulus = 2.1e11 / (1.0 - 0.09);
+  const double contact_radius = std::sqrt(radius * approach);
+  const auto   grid           = contact::SurfaceGrid::centred(64, 64, 1.6 * contact_radius, 1.6 * contact_radius);
+  LocalCompliance half_space(grid, modulus, 1e21, false);
+  contact::Field  penetration(grid.size()), pressure(grid.size(), 0.0);
+  for (int j = 0; j < grid.ny; ++j)
+    for (int i = 0; i < grid.nx; ++i)
+      penetration[grid.index(i, j)] =
+        approach - (grid.x(i) * grid.x(i) + grid.y(j) * grid.y(j)) / (2.0 * radius);
+  const int iterations = half_space.solve(penetration, pressure);
+  EXPECT_GT(iterations, 0);
+  const double load = contact::integrate(grid, pressure);
+  const double hertz_load = 4.0 / 3.0 * modulus * std::sqrt(radius) * std::pow(approach, 1.5);
+  const double hertz_peak = 2.0 * modulus * contact_radius / (M_PI * radius);
+  // Tolerances: the 64² grid's discretisation error (about 0.5 % in the load
+  // and 1 % in the peak at 40 cells across the contact, REFERENCES.md §2.2).
+  EXPECT_NEAR(load / hertz_load, 1.0, 0.01);
+  EXPECT_NEAR(largest(pressure) / hertz_peak, 1.0, 0.02);
+  // The solution is a fixed point: started from it, no iteration is needed.
+  EXPECT_EQ(half_space.solve(penetration, pressure), 0);
+}
+
+TEST(LocalCompliance, AStiffHalfSpaceLeavesTheLayerAlone)
+{
+  // E' = 1e25 Pa: the half-space gives nothing, p = k_n b where b > 0.
+  const auto      grid = contact::SurfaceGrid::centred(32, 8, 0.01, 0.002);
+  LocalCompliance half_space(grid, 1e25, 1e15, false);
+  contact::Field  penetration(grid.size()), pressure(grid.size(), 0.0);
+  for (std::size_t c = 0; c < grid.size(); ++c)
+    penetration[c] = 1e-9 * std::sin(0.37 * static_cast<double>(c));
+  half_space.solve(penetration, pressure);
+  double worst = 0.0;
+  for (std::size_t c = 0; c < grid.size(); ++c)
+    worst = std::max(worst, std::abs(pressure[c] - 1e15 * std::max(penetration[c], 0.0)));
+  // Tolerance: the solver's stopping gap, 1e-7 × max b, times k_n, against
+  // the 1 MPa peak (the half-space's own 1e-25 m/Pa are far below).
+  EXPECT_LT(worst / 1e6, 2e-7);
+}
+
+TEST(LocalCompliance, OnTheClosedCircumferenceAPatchAcrossTheSeamIsThePatchMidGrid)
+{
+  // The same penetration pattern centred on the seam (x = 0 and 2πR meet) and
+  // half a turn away gives the same pressure, shifted: the distances wrap.
+  // Without the wrap the seam's patch would be two half patches, softer.
+  const double    radius = 0.04;
+  const auto      grid   = contact::SurfaceGrid::centred(120, 8, M_PI * radius, 0.009);
+  LocalCompliance closed(grid, 2.3e11, 1e15, true), open(grid, 2.3e11, 1e15, false);
+  contact::Field  seam(grid.size()), middle(grid.size());
+  for (int j = 0; j < grid.ny; ++j)
+    for (int i = 0; i < grid.nx; ++i)
+      {
+        const double theta = grid.x(i) / radius; // from -π to π: the seam is at ±π
+        const double shape = 1e-6 * (std::cos(theta) - 0.9);
+        middle[grid.index(i, j)]                         = shape;
+        seam[grid.index((i + grid.nx / 2) % grid.nx, j)] = shape;
+      }
+  contact::Field p_seam(grid.size(), 0.0), p_middle(grid.size(), 0.0), p_open(grid.size(), 0.0);
+  closed.solve(seam, p_seam);
+  closed.solve(middle, p_middle);
+  open.solve(seam, p_open);
+  double worst = 0.0;
+  for (int j = 0; j < grid.ny; ++j)
+    for (int i = 0; i < grid.nx; ++i)
+      worst = std::max(worst, std::abs(p_seam[grid.index((i + grid.nx / 2) % grid.nx, j)] -
+                                       p_middle[grid.index(i, j)]));
+  // Tolerance: twice the stopping gap, 1e-7 × max b, over the smallest
+  // compliance of a cell (self + 1/k_n) — an upper bound on the pressure it
+  // leaves.
+  EXPECT_LT(worst / largest(p_middle), 1e-4);
+  EXPECT_GT(largest(p_open) / largest(p_middle), 1.05); // the seam matters
+}
+
+TEST(LocalCompliance, TheInterfaceJacobianCarriesTheHalfSpacesSensitivity)
+{
+  // An interference fit keeps every cell loaded and a large μ keeps every
+  // bristle sticking: the map is smooth, and central differences check
+  // ∂f/∂q = A Bᵀ (C_AA + I/k_n)⁻¹ R, cell to cell coupled.
+  const auto        ring = synthetic::random_ring(5, 36, 3, 7);
+  InterfaceSettings settings;
+  settings.normal_stiffness         = 1e15;
+  settings.tangential_stiffness     = 2e15;
+  settings.friction_coefficient     = 10.0;
+  settings.normal_damping_time      = 1e-6;
+  settings.radial_interference      = 5e-9;
+  settings.local_compliance_modulus = 2.3e11;
+  InterfaceContact contact(ring, settings);
+  std::vector<double> q0(5), v(5);
+  for (std::size_t j = 0; j < 5; ++j)
+    {
+      q0[j] = 1e-10 * std::cos(1.3 * j);
+      v[j]  = 1e-7 * std::sin(0.7 * j);
+    }
+  contact.accept(q0.data(), v.data());
+  auto q = q0;
+  for (std::size_t j = 0; j < q.size(); ++j)
+    q[j] += 0.02e-9 * std::cos(3.0 * j);
+  std::vector<double> f(5, 0.0), dq(25, 0.0), dv(25, 0.0);
+  contact.add_forces(q.data(), v.data(), {f.data(), dq.data(), dv.data()});
+  ASSERT_GT(contact.contact_fraction(), 0.0);
+  const auto evaluate = [&](const std::vector<double> &qq, const std::vector<double> &vv) {
+    std::vector<double> out(5, 0.0);
+    contact.add_forces(qq.data(), vv.data(), {out.data(), nullptr, nullptr});
+    return out;
+  };
+  double difference = 0.0, scale = 0.0;
+  for (std::size_t j = 0; j < 5; ++j)
+    for (int which = 0; which < 2; ++which)
+      {
+        const double h      = which == 0 ? 1e-13 : 1e-9;
+        auto         q_plus = q, q_minus = q, v_plus = v, v_minus = v;
+        (which == 0 ? q_plus : v_plus)[j] += h;
+        (which == 0 ? q_minus : v_minus)[j] -= h;
+        const auto f_plus = evaluate(q_plus, v_plus), f_minus = evaluate(q_minus, v_minus);
+        const auto &analytic = which == 0 ? dq : dv;
+        for (std::size_t i = 0; i < 5; ++i)
+          {
+            const double numeric = (f_plus[i] - f_minus[i]) / (2.0 * h);
+            difference           = std::max(difference, std::abs(numeric - analytic[i * 5 + j]) /
+                                                            (which == 0 ? 1.0 : settings.normal_damping_time));
+            scale = std::max(scale, std::abs(analytic[i * 5 + j]) / (which == 0 ? 1.0 : settings.normal_damping_time));
+          }
+      }
+  // Tolerance: the sensitivity's conjugate gradients stop at 1e-4 of the
+  // right-hand side, the pressure solve at 1e-7 of the penetration (FD noise
+  // 1e-7 × 5 nm / 1e-13 m ~ 5e-3 of a cell's force at worst, averaged over
+  // many cells in a generalised force).
+  EXPECT_LT(difference / scale, 2e-3);
+  // And it is not the layer's own, uncoupled Jacobian: on these 7 mm cells
+  // the half-space is far more compliant than the layer's 1e-15 m/Pa, and
+  // the normal part (all of ∂f/∂q̇) drops by most of its size.
+  InterfaceSettings layer_only = settings;
+  layer_only.local_compliance_modulus = 0.0;
+  layer_only.onset_pressure           = 0.0;
+  InterfaceContact    alone(ring, layer_only);
+  std::vector<double> g(5, 0.0), dq_alone(25, 0.0), dv_alone(25, 0.0);
+  alone.accept(q0.data(), v.data());
+  alone.add_forces(q.data(), v.data(), {g.data(), dq_alone.data(), dv_alone.data()});
+  double change = 0.0, size = 0.0;
+  for (std::size_t k = 0; k < 25; ++k)
+    {
+      change = std::max(change, std::abs(dv_alone[k] - dv[k]));
+      size   = std::max(size, std::abs(dv_alone[k]));
+    }
+  std::printf("velocity Jacobian (normal part only): change %.3g of the layer's own\n", change / size);
+  EXPECT_GT(change / size, 0.5);
+}

@@ -757,6 +757,10 @@ namespace fretsim::app
       p.reject("Model/Housing reduction configuration",
                "must be empty for `compare`: it re-solves the ring on the rigid housing (a flexible housing's full-FE "
                "check is not built yet)");
+    if (p.get("Interface/Local compliance") != "none")
+      p.reject("Interface/Local compliance",
+               "must be none for `compare` (add --set 'Interface/Local compliance=none'): its full-FE checks put the "
+               "ring on the Winkler layer alone, without the housing's half-space");
     in.model_file = p.get("Model/Model file");
     if (in.model_file.empty())
       in.model_file = (std::filesystem::path("results") /

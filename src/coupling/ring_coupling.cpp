@@ -137,9 +137,8 @@ namespace fretsim::coupling
     bool                       committing = false; ///< evaluating for accept()
 
     // The half-space in series with the layer (InterfaceSettings::
-    // local_compliance_modulus), its last solution as the next one's start,
-    // the layer's slope there, and this evaluation's structural penetration
-    // and rate per cell.
+    // local_compliance_modulus), its last pressure (the next solve's start)
+    // and approach, and this evaluation's structural penetration and rate.
     std::unique_ptr<LocalCompliance> local;
     contact::Field                   local_pressure, local_penetration, structural, structural_rate;
 

@@ -12,10 +12,12 @@
 //    rigid, or flexible through its own reduced model (with_flexible_housing);
 //    the contact itself is a Winkler layer of normal stiffness k_n
 //    [Pa/m] (the compliance of the rough interface) and bristles of stiffness
-//    k_t tangentially (paper eq. 4). The half-space is NOT used for
-//    displacements here: the pressure spreads over half the circumference,
-//    where a half-space would re-count the ring's own elasticity. It gives the
-//    subsurface stresses under the interface tractions only.
+//    k_t tangentially (paper eq. 4). Optionally (local_compliance_modulus)
+//    an elastic half-space in series with the layer gives the rigid
+//    housing's local elasticity, which no other model holds (LocalCompliance);
+//    the ring's own stays with its reduced model (a half-space for it as
+//    well would count its long wavelengths twice). The half-space also
+//    gives the subsurface stresses under the interface tractions.
 //  * ball contacts: the Hertz law carries the local indentation of ball and
 //    raceways; the reduced model the ring's global deformation, read as the
 //    work-conjugate approach r(ψ)·q of a Hertz-distributed unit ball load.

@@ -628,6 +628,8 @@ TEST(CompareCommand, BadInputNamesTheParameterAndWritesNothing)
          {"Compare/Instants=0", "Compare/Instants"},
          {"Interface/Normal stiffness=0", "Interface/Normal stiffness"},
          {"Interface/Normal stiffness=-1e15", "Interface/Normal stiffness"},
+         // its full-FE checks are of the ring on the layer alone
+         {"Interface/Local compliance=housing", "Interface/Local compliance"},
          {"Compare/Characteristic constraint modes=2.5", "Compare/Characteristic constraint modes"},
          {"Model/Model file=" + (dir / "missing.h5").string(), "Model/Model file"},
          {"Model/Reduction configuration=other.prm", "Model/Model file"},

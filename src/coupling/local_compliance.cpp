@@ -73,14 +73,7 @@ namespace fretsim::coupling
 
   LocalCompliance::~LocalCompliance() = default;
 
-  double LocalCompliance::self_compliance() const { return impl->self; }
-
   const LocalCompliance::Statistics &LocalCompliance::statistics() const { return impl->statistics; }
-
-  void LocalCompliance::displacement(const contact::Field &pressure, contact::Field &displacement) const
-  {
-    impl->compliance.apply(pressure, displacement);
-  }
 
   int LocalCompliance::solve(const contact::Field &b, contact::Field &p)
   {
@@ -99,9 +92,8 @@ namespace fretsim::coupling
     // Polonsky & Keer (Wear 231, 1999) with the approach given: conjugate
     // directions on the loaded cells, cells that would pull dropped, open
     // cells that penetrate taken in along the gradient with the same step
-    // (and the directions restarted).
-    // A start below the solution when no cell is loaded: the pressure that
-    // the same penetration everywhere would need.
+    // (and the directions restarted). When no cell is loaded, a start below
+    // the solution: the pressure the same penetration everywhere would need.
     const auto start_from_uniform = [&]() {
       for (std::size_t c = 0; c < cells; ++c)
         p[c] = std::max(b[c], 0.0) / d.uniform;

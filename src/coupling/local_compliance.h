@@ -47,12 +47,6 @@ namespace fretsim::coupling
     void pressure_sensitivity(const std::vector<std::size_t> &loaded, const std::vector<double> &rhs,
                               std::size_t columns, std::vector<double> &result);
 
-    /// w = C p [m].
-    void displacement(const contact::Field &pressure, contact::Field &displacement) const;
-
-    /// Compliance of a cell under its own unit pressure [m/Pa].
-    double self_compliance() const;
-
     /// Work done so far, in convolutions (the cost of both calls).
     struct Statistics
     {

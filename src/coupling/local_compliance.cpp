@@ -170,7 +170,7 @@ namespace fretsim::coupling
                              std::to_string(max_iterations) + " conjugate gradient iterations");
   }
 
-  void LocalCompliance::pressure_sensitivity(const std::vector<std::size_t> &loaded, const std::vector<double> &rhs,
+  void LocalCompliance::pressure_sensitivity(const std::vector<std::size_t> &loaded, const double *rhs,
                                              std::size_t columns, std::vector<double> &result)
   {
     auto               &d = *impl;
@@ -204,10 +204,11 @@ namespace fretsim::coupling
         // differs from the last computed one in at most 2 % of its cells,
         // the last sensitivity serves (a cell new to it starts as a lone
         // cell), as ARKODE itself keeps a Jacobian over many steps.
-        std::size_t differ = 0;
+        std::size_t added = 0;
         for (const std::size_t c : loaded)
-          differ += !d.last_known[c];
-        differ += d.last_loaded.size() + differ - m; // cells dropped
+          added += !d.last_known[c];
+        const std::size_t dropped = d.last_loaded.size() - (m - added);
+        const std::size_t differ  = added + dropped;
         if (!d.last_loaded.empty() && differ <= m / 50)
           {
             for (std::size_t a = 0; a < m; ++a)

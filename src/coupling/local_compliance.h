@@ -44,7 +44,7 @@ namespace fretsim::coupling
     /// the same rows per cell from call to call (the interface operator):
     /// while A differs from the last computed set in at most 2 % of its
     /// cells, the last answer is returned (for Newton's matrix only).
-    void pressure_sensitivity(const std::vector<std::size_t> &loaded, const std::vector<double> &rhs,
+    void pressure_sensitivity(const std::vector<std::size_t> &loaded, const double *rhs,
                               std::size_t columns, std::vector<double> &result);
 
     /// Work done so far, in convolutions (the cost of both calls).

@@ -363,9 +363,7 @@ namespace fretsim::coupling
       if (local)
         { // ∂p_A/∂d0_A = (C_AA + I/k_n)⁻¹: the radial rows through it
           std::vector<double> sensitivity;
-          local->pressure_sensitivity(active,
-                                      std::vector<double>(radial_rows.data(), radial_rows.data() + m * size), n,
-                                      sensitivity);
+          local->pressure_sensitivity(active, radial_rows.data(), n, sensitivity);
           radial_rows = Eigen::Map<const RowMatrix>(sensitivity.data(), m, size);
         }
       const Eigen::MatrixXd normal = cell_area * (normal_rows.transpose() * radial_rows);

@@ -42,10 +42,12 @@ TEST(LocalCompliance, ASpherePressedIntoTheHalfSpaceCarriesHertzsLoadAndPeak)
   const double load = contact::integrate(grid, pressure);
   const double hertz_load = 4.0 / 3.0 * modulus * std::sqrt(radius) * std::pow(approach, 1.5);
   const double hertz_peak = 2.0 * modulus * contact_radius / (M_PI * radius);
-  // Tolerances: the 64² grid's discretisation error (about 0.5 % in the load
-  // and 1 % in the peak at 40 cells across the contact, REFERENCES.md §2.2).
+  std::printf("against Hertz: load %.4f, peak %.4f\n", load / hertz_load, largest(pressure) / hertz_peak);
+  // Tolerances: 1 %, the project's Hertz bound for the normal contact solver
+  // (tests/contact/verification_normal_contact.cpp, REFERENCES.md §1); this
+  // 64² grid, 40 cells across the contact, gives 0.02 % (load), 0.05 % (peak).
   EXPECT_NEAR(load / hertz_load, 1.0, 0.01);
-  EXPECT_NEAR(largest(pressure) / hertz_peak, 1.0, 0.02);
+  EXPECT_NEAR(largest(pressure) / hertz_peak, 1.0, 0.01);
   // The solution is a fixed point: started from it, no iteration is needed.
   EXPECT_EQ(half_space.solve(penetration, pressure), 0);
 }

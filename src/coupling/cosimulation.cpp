@@ -333,7 +333,7 @@ namespace fretsim::coupling
       throw std::invalid_argument("co-simulation: duration, output interval, ball stiffness and the lowest elastic "
                                   "frequency must be positive; ramp time and damping ratio >= 0");
     if (s.integrator.order < 2 || s.integrator.order > 5 || !positive(s.integrator.relative_tolerance) ||
-        !positive(s.integrator.displacement_tolerance))
+        !positive(s.integrator.displacement_tolerance) || !positive(s.integrator.newton_tolerance))
       throw std::invalid_argument("co-simulation: integrator order must be 2..5 and tolerances positive");
     impl = std::make_unique<Impl>(ring, s);
   }
@@ -368,6 +368,7 @@ namespace fretsim::coupling
     check(ARKStepSetJacFn(sun.arkode, arkode_jacobian), "ARKStepSetJacFn");
     check(ARKStepSetOrder(sun.arkode, s.integrator.order), "ARKStepSetOrder");
     check(ARKStepSetMaxNonlinIters(sun.arkode, s.integrator.maximum_newton_iterations), "ARKStepSetMaxNonlinIters");
+    check(ARKStepSetNonlinConvCoef(sun.arkode, s.integrator.newton_tolerance), "ARKStepSetNonlinConvCoef");
 
     if (s.integrator.maximum_step > 0.0)
       check(ARKStepSetMaxStep(sun.arkode, s.integrator.maximum_step), "ARKStepSetMaxStep");

@@ -14,6 +14,7 @@ namespace fretsim::coupling
     contact::SurfaceGrid        grid;
     contact::SurfaceConvolution compliance;
     double                      layer_compliance; ///< 1/k_n [m/Pa]
+    double                      sensitivity_tolerance;
     double                      self = 0.0;
     double                      uniform = 0.0; ///< the largest displacement under p = 1 everywhere [m/Pa]
     contact::Field              full, response, gap, direction; // work arrays
@@ -26,7 +27,8 @@ namespace fretsim::coupling
     std::vector<unsigned char> last_known; ///< per grid cell: in last_loaded
     std::size_t              last_columns = 0;
 
-    Impl(const contact::SurfaceGrid &g, double modulus, double layer_stiffness, bool periodic_x)
+    Impl(const contact::SurfaceGrid &g, double modulus, double layer_stiffness, bool periodic_x,
+         double cg_tolerance)
       : grid(g)
       , compliance(g,
                    [g, modulus, periodic_x](int di, int dj) {
@@ -42,6 +44,7 @@ namespace fretsim::coupling
                    },
                    periodic_x)
       , layer_compliance(1.0 / layer_stiffness)
+      , sensitivity_tolerance(cg_tolerance)
       , self(contact::influence::normal_displacement(0.0, 0.0, g.hx, g.hy, modulus))
     {
       for (auto *field : {&full, &response, &gap, &direction})
@@ -62,13 +65,15 @@ namespace fretsim::coupling
   };
 
   LocalCompliance::LocalCompliance(const contact::SurfaceGrid &grid, double contact_modulus, double layer_stiffness,
-                                   bool periodic_x)
+                                   bool periodic_x, double sensitivity_tolerance)
   {
     if (!(contact_modulus > 0.0) || !std::isfinite(contact_modulus))
       throw std::invalid_argument("local compliance: the contact modulus must be positive and finite");
     if (!(layer_stiffness > 0.0) || !std::isfinite(layer_stiffness))
       throw std::invalid_argument("local compliance: the layer stiffness must be positive and finite");
-    impl = std::make_unique<Impl>(grid, contact_modulus, layer_stiffness, periodic_x);
+    if (!(sensitivity_tolerance > 0.0 && sensitivity_tolerance < 1.0))
+      throw std::invalid_argument("local compliance: the sensitivity tolerance must be in (0, 1)");
+    impl = std::make_unique<Impl>(grid, contact_modulus, layer_stiffness, periodic_x, sensitivity_tolerance);
   }
 
   LocalCompliance::~LocalCompliance() = default;
@@ -232,7 +237,7 @@ namespace fretsim::coupling
           continue;
         // Conjugate gradients on the symmetric positive definite C_AA + I/k_n,
         // from the last solution (the loaded set and the operator change
-        // little between Jacobians); 1e-4 is ample for Newton's matrix.
+        // little between Jacobians).
         for (std::size_t a = 0; a < m; ++a)
           x[a] = d.last_sensitivity[loaded[a] * columns + j];
         apply(x, as);
@@ -246,7 +251,7 @@ namespace fretsim::coupling
             double worst = 0.0;
             for (std::size_t a = 0; a < m; ++a)
               worst = std::max(worst, std::abs(r[a]));
-            if (worst <= 1e-4 * b_norm)
+            if (worst <= d.sensitivity_tolerance * b_norm)
               break;
             apply(s, as);
             const double alpha = rr / dot(s, as);

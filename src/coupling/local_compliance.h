@@ -23,9 +23,11 @@ namespace fretsim::coupling
     /// `contact_modulus` E' [Pa]: 1/E' = Σ (1 - ν²)/E over the bodies whose
     /// local compliance the half-space stands for. `layer_stiffness` k_n
     /// [Pa/m] of the layer in series. `periodic_x`: the grid's x is the whole
-    /// circumference (distances wrap around).
+    /// circumference (distances wrap around). `sensitivity_tolerance`: where
+    /// pressure_sensitivity's conjugate gradients stop, relative to each
+    /// right-hand side's largest entry [-].
     LocalCompliance(const contact::SurfaceGrid &grid, double contact_modulus, double layer_stiffness,
-                    bool periodic_x);
+                    bool periodic_x, double sensitivity_tolerance = 1e-4);
     ~LocalCompliance();
 
     /// Solves the contact of the layer on the half-space for the structural

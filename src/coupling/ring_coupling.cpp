@@ -162,7 +162,8 @@ namespace fretsim::coupling
         {
           const bool closed = std::abs(grid.nx * grid.hx - 2.0 * M_PI * radius) <= 1e-9 * radius;
           local = std::make_unique<LocalCompliance>(grid, settings.local_compliance_modulus,
-                                                    settings.normal_stiffness, closed);
+                                                    settings.normal_stiffness, closed,
+                                                    settings.sensitivity_tolerance);
           for (auto *field : {&local_pressure, &local_penetration})
             field->assign(cells, 0.0);
         }

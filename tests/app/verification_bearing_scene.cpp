@@ -228,15 +228,19 @@ TEST(BearingScene, AHalfSpaceAtTheInterfaceSpreadsThePressureAndMakesTheLayerAPe
   const auto layer  = run("layer", "");
   const auto local  = run("local", "--set 'Interface/Local compliance=housing'");
   const auto stiff  = run("stiff", "--set 'Interface/Local compliance=housing' --set 'Interface/Normal stiffness=1e17'");
+  // The paper's scene loosens Newton to 0.5 with the half-space (README).
+  const auto loose = run("loose", "--set 'Interface/Local compliance=housing' --set 'Integrator/Newton tolerance=0.5'");
   std::printf("peak pressure: layer alone %.4g MPa, with the half-space %.4g MPa (k_n x100: %.4g MPa); "
               "away from the axial edges %.4g, %.4g, %.4g MPa\n",
               layer.peak_pressure / 1e6, local.peak_pressure / 1e6, stiff.peak_pressure / 1e6,
               layer.mid_width_peak / 1e6, local.mid_width_peak / 1e6, stiff.mid_width_peak / 1e6);
-  std::printf("D_max: layer alone %.5g, with the half-space %.5g (k_n x100: %.5g)\n", layer.risk_max, local.risk_max,
-              stiff.risk_max);
+  std::printf("D_max: layer alone %.5g, with the half-space %.5g (k_n x100: %.5g; Newton tolerance 0.5: %.5g, "
+              "peak %.4g MPa, %.0f steps instead of %.0f)\n",
+              layer.risk_max, local.risk_max, stiff.risk_max, loose.risk_max, loose.peak_pressure / 1e6,
+              summary_number(loose.summary, "steps"), summary_number(local.summary, "steps"));
   EXPECT_NE(local.summary.find("\"local_compliance\": \"housing\""), std::string::npos);
   EXPECT_GT(summary_number(local.summary, "pressure_solves"), 0.0);
-  for (const auto *r : {&layer, &local, &stiff})
+  for (const auto *r : {&layer, &local, &stiff, &loose})
     EXPECT_LT(r->balance, 0.01); // what the balls push ends in the housing
   // Around the circumference the half-space spreads the load (measured: the
   // mid-width peak 9.7 → 6.2 MPa); across the flat 18 mm width it raises the
@@ -249,6 +253,17 @@ TEST(BearingScene, AHalfSpaceAtTheInterfaceSpreadsThePressureAndMakesTheLayerAPe
   // 3.1 % in D_max, which sits at the edge cells; bounds 3 % and 6 %.
   EXPECT_NEAR(stiff.peak_pressure / local.peak_pressure, 1.0, 0.03);
   EXPECT_NEAR(stiff.risk_max / local.risk_max, 1.0, 0.06);
+  // Newton stopped at 0.5 instead of 0.1 of the error test's tolerance, in
+  // half the steps. With the layer alone that let pressure creep onto the
+  // unloaded lower half (its peak there 1.2 → 6.5 MPa, README); here it stays
+  // (measured +5 %; bound 1.5×) and D_max within the spread between runs
+  // that differ only in their step sequence (measured +5.5 % on this 2-pass
+  // run, -1.5 % at k_n = 1e17 over 3.5 passes; the penalty's 3 % above):
+  // bound 8 %.
+  EXPECT_NEAR(loose.peak_pressure / local.peak_pressure, 1.0, 0.03);
+  EXPECT_NEAR(loose.risk_max / local.risk_max, 1.0, 0.08);
+  EXPECT_LT(summary_number(loose.summary, "lower_half_peak_pressure_Pa"),
+            1.5 * summary_number(local.summary, "lower_half_peak_pressure_Pa"));
 }
 
 TEST(BearingScene, BadInputExitsWithTwoNamingTheParameterAndWritesNothing)

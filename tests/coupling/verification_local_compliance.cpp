@@ -115,6 +115,7 @@ TEST(LocalCompliance, TheInterfaceJacobianCarriesTheHalfSpacesSensitivity)
   settings.normal_damping_time      = 1e-6;
   settings.radial_interference      = 5e-9;
   settings.local_compliance_modulus = 2.3e11;
+  settings.sensitivity_tolerance    = 1e-4; // the default 1e-2 is for Newton's matrix, too coarse for this check
   InterfaceContact contact(ring, settings);
   std::vector<double> q0(5), v(5);
   for (std::size_t j = 0; j < 5; ++j)

@@ -45,6 +45,7 @@ try:
     import matplotlib.pyplot as plt
     from matplotlib.transforms import blended_transform_factory
     import h5py
+    from fretsim_h5 import number_attribute, text_attribute
 except ImportError as error:  # pragma: no cover - depends on the machine
     sys.stderr.write(
         f"plot_bearing_housing.py: {error}; needs python3-numpy, python3-matplotlib and "
@@ -61,30 +62,6 @@ def note(text):
 
 
 # ----------------------------------------------------------------- reading
-
-
-def text_attribute(value):
-    """An HDF5 string attribute as str, whatever h5py returns."""
-    if isinstance(value, bytes):
-        return value.decode("utf-8", "replace")
-    if isinstance(value, np.ndarray) and value.size == 1:
-        return text_attribute(value.item())
-    return str(value)
-
-
-def number_attribute(attrs, name):
-    """A root attribute as float (stored as a number or as text), or None."""
-    if name not in attrs:
-        return None
-    value = attrs[name]
-    try:
-        if isinstance(value, (bytes, str)):
-            value = float(text_attribute(value))
-        else:
-            value = float(np.asarray(value).reshape(-1)[0])
-    except (TypeError, ValueError, IndexError):
-        return None
-    return value if math.isfinite(value) else None
 
 
 def cell_edges(centres):

@@ -38,6 +38,7 @@ try:
     import matplotlib.pyplot as plt
     from matplotlib.colors import ListedColormap, BoundaryNorm
     import h5py
+    from fretsim_h5 import number_attribute, text_attribute
 except ImportError as error:  # pragma: no cover - depends on the machine
     sys.stderr.write(
         f"plot_results.py: {error}; needs python3-numpy, python3-matplotlib and "
@@ -47,28 +48,6 @@ except ImportError as error:  # pragma: no cover - depends on the machine
 
 
 # ----------------------------------------------------------------- reading
-
-
-def text_attribute(value):
-    """An HDF5 string attribute as str, whatever h5py returns."""
-    if isinstance(value, bytes):
-        return value.decode("utf-8", "replace")
-    if isinstance(value, np.ndarray) and value.size == 1:
-        return text_attribute(value.item())
-    return str(value)
-
-
-def number_attribute(attrs, name):
-    """A root attribute as float (stored as a number or as text), or None."""
-    if name not in attrs:
-        return None
-    value = attrs[name]
-    try:
-        if isinstance(value, (bytes, str)):
-            return float(text_attribute(value))
-        return float(np.asarray(value).reshape(-1)[0])
-    except (TypeError, ValueError, IndexError):
-        return None
 
 
 def parse_prm(text):

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 
@@ -52,7 +53,7 @@ namespace fretsim::coupling
   {
     const long lag = std::lround(period / interval);
     if (lag < 1 || static_cast<long>(history.size()) < 2 * lag)
-      return 1.0; // not enough history to tell
+      return std::numeric_limits<double>::quiet_NaN(); // not enough history to tell
     double difference = 0.0, scale = 0.0;
     for (std::size_t k = history.size() - lag; k < history.size(); ++k)
       for (std::size_t c = 0; c < history[k].size(); ++c)

@@ -17,6 +17,8 @@ namespace fretsim::coupling
 
   /// max |a(t) - a(t - T)| / max |a| over the samples of the last period T of
   /// a series of fields (each of the same size) sampled every `interval`:
-  /// 0 for fields that repeat with period T. T must be a whole number of intervals.
+  /// 0 for fields that repeat with period T. T must be a whole number of
+  /// intervals. NaN (no measure) when the series is shorter than two periods
+  /// (summary.json then says null).
   double periodicity_error(const std::vector<std::vector<double>> &history, double interval, double period);
 } // namespace fretsim::coupling

@@ -142,6 +142,18 @@ TEST(LocalCompliance, TheInterfaceJacobianCarriesTheHalfSpacesSensitivity)
   // right-hand side; 2e-3 leaves room for both.
   EXPECT_LT(jacobian_error(5, q, v, 0, 1e-12, evaluate, dq), 2e-3);
   EXPECT_LT(jacobian_error(5, q, v, 1, 1e-6, evaluate, dv), 2e-3);
+  // The scene's sensitivity tolerance, 1e-2 (for Newton's matrix): the
+  // Jacobian within the same 1e-2, plus the differences' noise above.
+  InterfaceSettings coarse_settings = settings;
+  coarse_settings.sensitivity_tolerance = InterfaceSettings{}.sensitivity_tolerance;
+  InterfaceContact    coarse(ring, coarse_settings);
+  std::vector<double> h(5, 0.0), dq_coarse(25, 0.0), dv_coarse(25, 0.0);
+  coarse.accept(q0.data(), v.data());
+  coarse.add_forces(q.data(), v.data(), {h.data(), dq_coarse.data(), dv_coarse.data()});
+  const double coarse_error = jacobian_error(5, q, v, 0, 1e-12, evaluate, dq_coarse);
+  std::printf("with the default sensitivity tolerance %.0e: FD error %.2g\n", coarse_settings.sensitivity_tolerance,
+              coarse_error);
+  EXPECT_LT(coarse_error, 1e-2 + 2e-3);
   // And it is not the layer's own, uncoupled Jacobian: on these 7 mm cells
   // the half-space is far more compliant than the layer's 1e-15 m/Pa, and
   // the normal part (all of ∂f/∂q̇) drops by most of its size.

@@ -104,9 +104,9 @@ namespace fretsim::coupling
     double local_compliance_modulus = 0.0;
     /// Where the half-space's pressure sensitivity in Newton's matrix stops,
     /// relative to each right-hand side (LocalCompliance). Newton's matrix
-    /// needs about 1 %: on the paper's case 1e-2 took half the convolutions
-    /// of 1e-4 at as many Newton iterations; the small test ring's D_max moved
-    /// by 1 % (README) [-].
+    /// needs about 1 %: on the paper's case 1e-2 took 0.54 of the
+    /// sensitivity convolutions of 1e-4 at as many right-hand sides; D_max
+    /// on the suite's small ring moved by < 1 % [-].
     double sensitivity_tolerance = 1e-2;
   };
 

@@ -11,7 +11,7 @@ using fretsim::coupling::periodicity_error;
 
 namespace
 {
-  /// Two fields of three cells, sampled every 0.25 (4 samples per period 1):
+  /// `samples` fields of three cells, sampled every 0.25 (4 per period 1):
   /// a(t) = sin(2πt + c) + drift t on every cell c.
   std::vector<std::vector<double>> history(int samples, double drift)
   {

@@ -106,13 +106,15 @@ namespace fretsim::coupling
     double previous    = 1.0;
     bool   restart     = true;
     bool   gap_current = false;
+    bool   any_loaded  = std::any_of(p.begin(), p.end(), [](double value) { return value > 0.0; });
     std::fill(d.direction.begin(), d.direction.end(), 0.0);
     constexpr int max_iterations = 2000;
     for (int it = 0; it < max_iterations; ++it)
       {
-        if (std::all_of(p.begin(), p.end(), [](double value) { return value <= 0.0; }))
+        if (!any_loaded)
           {
             start_from_uniform();
+            any_loaded  = true; // scale > 0: some cell penetrates
             restart     = true;
             gap_current = false;
           }
@@ -150,6 +152,7 @@ namespace fretsim::coupling
         const double length = curvature > 0.0 ? along / curvature : 0.0;
         restart             = false;
         bool clipped        = false;
+        any_loaded          = false;
         for (std::size_t c = 0; c < cells; ++c)
           {
             if (p[c] > 0.0)
@@ -163,6 +166,7 @@ namespace fretsim::coupling
                 p[c]    = -length * d.gap[c];
                 restart = true;
               }
+            any_loaded = any_loaded || p[c] > 0.0;
           }
         // Without cells dropped or taken in, the step's gap follows from the
         // direction's response: one convolution per iteration instead of two.
@@ -180,7 +184,7 @@ namespace fretsim::coupling
   {
     auto               &d = *impl;
     const std::size_t   m = loaded.size();
-    std::vector<double> x(m), r(m), z(m), s(m), as(m);
+    std::vector<double> x(m), r(m), s(m), as(m);
     const auto          apply = [&](const std::vector<double> &in, std::vector<double> &out) {
       std::fill(d.full.begin(), d.full.end(), 0.0);
       for (std::size_t a = 0; a < m; ++a)

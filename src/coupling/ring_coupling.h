@@ -103,11 +103,8 @@ namespace fretsim::coupling
     /// over the bodies it stands for; 0: none, the layer alone.
     double local_compliance_modulus = 0.0;
     /// Where the half-space's pressure sensitivity in Newton's matrix stops,
-    /// relative to each right-hand side (LocalCompliance). Newton's matrix
-    /// needs about 1 %: on the paper's case 1e-2 took 0.54 of the
-    /// sensitivity convolutions of 1e-4 at as many right-hand sides; D_max
-    /// on the suite's small ring moved by < 1 % [-].
-    double sensitivity_tolerance = 1e-2;
+    /// relative to each right-hand side (LocalCompliance) [-].
+    double sensitivity_tolerance = LocalCompliance::default_sensitivity_tolerance;
   };
 
   /// Loads and their derivatives at a trial state, added into caller arrays:

@@ -75,6 +75,12 @@ namespace fretsim::app
     /// The housing interface's Winkler layer, as the run had it.
     double normal_stiffness    = 1e15; ///< k_n [Pa/m], > 0
     double radial_interference = 0.0;  ///< δ_fit [m]
+    /// The run's Interface/Local compliance (none, housing, both). With a
+    /// half-space the run's pressure is not the layer-alone problem the
+    /// Winkler check solves: the ring is still compared under the run's
+    /// loads, the Winkler check is of the model alone, and the run's
+    /// pressure is not set against it.
+    std::string local_compliance = "none";
   };
 
   /// Reads the scene file (and --set overrides) and resolves the paths: the

@@ -182,23 +182,8 @@ namespace fretsim::coupling
   void LocalCompliance::pressure_sensitivity(const std::vector<std::size_t> &loaded, const double *rhs,
                                              std::size_t columns, std::vector<double> &result)
   {
-    auto               &d = *impl;
-    const std::size_t   m = loaded.size();
-    std::vector<double> x(m), r(m), s(m), as(m);
-    const auto          apply = [&](const std::vector<double> &in, std::vector<double> &out) {
-      std::fill(d.full.begin(), d.full.end(), 0.0);
-      for (std::size_t a = 0; a < m; ++a)
-        d.full[loaded[a]] = in[a];
-      d.apply(d.full, d.response, d.statistics.sensitivity_convolutions);
-      for (std::size_t a = 0; a < m; ++a)
-        out[a] = d.response[loaded[a]];
-    };
-    const auto dot = [m](const std::vector<double> &u, const std::vector<double> &v) {
-      double sum = 0.0;
-      for (std::size_t a = 0; a < m; ++a)
-        sum += u[a] * v[a];
-      return sum;
-    };
+    auto             &d = *impl;
+    const std::size_t m = loaded.size();
     ++d.statistics.sensitivities;
     result.assign(m * columns, 0.0);
     if (d.last_columns != columns)
@@ -229,51 +214,83 @@ namespace fretsim::coupling
             return;
           }
       }
-    for (std::size_t j = 0; j < columns; ++j)
-      {
-        double b_norm = 0.0;
+    // The columns are independent solves: shared out over the threads
+    // (SurfaceConvolution::apply is safe to call concurrently), each with
+    // its own work arrays, so that the result does not depend on which
+    // thread solved which column.
+    std::size_t convolutions = 0;
+    bool        diverged     = false;
+#pragma omp parallel reduction(+ : convolutions) reduction(|| : diverged)
+    {
+      std::vector<double> x(m), r(m), s(m), as(m);
+      contact::Field      full(d.grid.size(), 0.0), response(d.grid.size(), 0.0);
+      const auto          apply = [&](const std::vector<double> &in, std::vector<double> &out) {
         for (std::size_t a = 0; a < m; ++a)
-          {
-            r[a]   = rhs[a * columns + j];
-            b_norm = std::max(b_norm, std::abs(r[a]));
-          }
-        if (b_norm == 0.0)
-          continue;
-        // Conjugate gradients on the symmetric positive definite C_AA + I/k_n,
-        // from the last solution (the loaded set and the operator change
-        // little between Jacobians).
+          full[loaded[a]] = in[a];
+        ++convolutions;
+        d.compliance.apply(full, response);
         for (std::size_t a = 0; a < m; ++a)
-          x[a] = d.last_sensitivity[loaded[a] * columns + j];
-        apply(x, as);
+          out[a] = response[loaded[a]] + d.layer_compliance * in[a];
+      };
+      const auto dot = [m](const std::vector<double> &u, const std::vector<double> &v) {
+        double sum = 0.0;
         for (std::size_t a = 0; a < m; ++a)
-          r[a] -= as[a];
-        s          = r;
-        double rr  = dot(r, r);
-        int    it  = 0;
-        for (; it < 1000; ++it)
-          {
-            double worst = 0.0;
-            for (std::size_t a = 0; a < m; ++a)
-              worst = std::max(worst, std::abs(r[a]));
-            if (worst <= d.sensitivity_tolerance * b_norm)
-              break;
-            apply(s, as);
-            const double alpha = rr / dot(s, as);
-            for (std::size_t a = 0; a < m; ++a)
-              {
-                x[a] += alpha * s[a];
-                r[a] -= alpha * as[a];
-              }
-            const double rr_next = dot(r, r);
-            for (std::size_t a = 0; a < m; ++a)
-              s[a] = r[a] + rr_next / rr * s[a];
-            rr = rr_next;
-          }
-        if (it == 1000)
-          throw std::runtime_error("local compliance: the pressure sensitivity did not converge");
-        for (std::size_t a = 0; a < m; ++a)
-          result[a * columns + j] = d.last_sensitivity[loaded[a] * columns + j] = x[a];
-      }
+          sum += u[a] * v[a];
+        return sum;
+      };
+#pragma omp for schedule(dynamic, 1)
+      for (std::size_t j = 0; j < columns; ++j)
+        {
+          double b_norm = 0.0;
+          for (std::size_t a = 0; a < m; ++a)
+            {
+              r[a]   = rhs[a * columns + j];
+              b_norm = std::max(b_norm, std::abs(r[a]));
+            }
+          if (b_norm == 0.0 || diverged)
+            continue;
+          // Conjugate gradients on the symmetric positive definite
+          // C_AA + I/k_n, from the last solution (the loaded set and the
+          // operator change little between Jacobians).
+          for (std::size_t a = 0; a < m; ++a)
+            x[a] = d.last_sensitivity[loaded[a] * columns + j];
+          apply(x, as);
+          for (std::size_t a = 0; a < m; ++a)
+            r[a] -= as[a];
+          s         = r;
+          double rr = dot(r, r);
+          int    it = 0;
+          for (; it < 1000; ++it)
+            {
+              double worst = 0.0;
+              for (std::size_t a = 0; a < m; ++a)
+                worst = std::max(worst, std::abs(r[a]));
+              if (worst <= d.sensitivity_tolerance * b_norm)
+                break;
+              apply(s, as);
+              const double alpha = rr / dot(s, as);
+              for (std::size_t a = 0; a < m; ++a)
+                {
+                  x[a] += alpha * s[a];
+                  r[a] -= alpha * as[a];
+                }
+              const double rr_next = dot(r, r);
+              for (std::size_t a = 0; a < m; ++a)
+                s[a] = r[a] + rr_next / rr * s[a];
+              rr = rr_next;
+            }
+          if (it == 1000)
+            {
+              diverged = true;
+              continue;
+            }
+          for (std::size_t a = 0; a < m; ++a)
+            result[a * columns + j] = d.last_sensitivity[loaded[a] * columns + j] = x[a];
+        }
+    }
+    d.statistics.sensitivity_convolutions += convolutions;
+    if (diverged)
+      throw std::runtime_error("local compliance: the pressure sensitivity did not converge");
     d.last_loaded = loaded;
     std::fill(d.last_known.begin(), d.last_known.end(), 0);
     for (const std::size_t c : loaded)

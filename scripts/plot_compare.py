@@ -121,15 +121,16 @@ def main(csv_path):
 
 
 def read_profile(path):
-    """The comment line and the columns of compare_pressure.csv."""
+    """The comment lines and the columns of compare_pressure.csv."""
     with open(path) as f:
-        title = f.readline().lstrip("# ").strip()
-        reader = csv.DictReader(f)
-        columns = {name: [] for name in reader.fieldnames}
-        for row in reader:
-            for name in reader.fieldnames:
-                columns[name].append(number(row, name))
-    return title, columns
+        lines = f.read().splitlines()
+    comments = [line.lstrip("# ").strip() for line in lines if line.startswith("#")]
+    reader = csv.DictReader(line for line in lines if not line.startswith("#"))
+    columns = {name: [] for name in reader.fieldnames}
+    for row in reader:
+        for name in reader.fieldnames:
+            columns[name].append(number(row, name))
+    return comments, columns
 
 
 def plot_winkler(rows, axes, profile_path):
@@ -137,7 +138,9 @@ def plot_winkler(rows, axes, profile_path):
     # Pressure along the circumference at the instant of the highest peak.
     ax = axes[0]
     if os.path.exists(profile_path):
-        title, columns = read_profile(profile_path)
+        comments, columns = read_profile(profile_path)
+        title = comments[0] if comments else ""
+        half_space = any("half-space" in line for line in comments[1:])
         theta = columns["theta_deg"]
         reduced = [name for name in columns if name.startswith("reduced_")]
         model = [r for r in rows if r["whole_model"] == "1"]
@@ -155,7 +158,8 @@ def plot_winkler(rows, axes, profile_path):
             ax.plot(theta, [1e-6 * v for v in columns[model_name]], "r-", lw=1.5,
                     label="reduced, the model (" + model_name.replace("reduced_", "").replace("_Pa", "") + ")")
         ax.plot(theta, [1e-6 * v for v in columns["full_Pa"]], "k-", lw=2, label="full FE")
-        ax.plot(theta, [1e-6 * v for v in columns["run_Pa"]], "b--", lw=1, label="the run (dynamic, with tractions)")
+        ax.plot(theta, [1e-6 * v for v in columns["run_Pa"]], "b--", lw=1, label="the run (through the housing's half-space: not this problem)" if half_space
+                else "the run (dynamic, with tractions)")
         ax.set_title(textwrap.fill(title, 70), fontsize=8)
     ax.set_xlabel("theta [deg] (axial mid-row of the interface grid)")
     ax.set_ylabel("pressure [MPa]")

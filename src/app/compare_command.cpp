@@ -72,7 +72,22 @@ namespace fretsim::app
       /// The run's integrator steps, their wall time [s] and the inner ring's
       /// frequency [Hz]; 0 if the file has none (an older run).
       double              integrator_steps = 0.0, run_seconds = 0.0, inner_ring_frequency_hz = 0.0;
-      bool                other_model = false;           ///< its q has another size than the model's
+      bool                other_model = false;           ///< its ring's q has another size than the model's
+      /// What else the run had between ring and housing: the half-space
+      /// (its local_compliance attribute) or a flexible housing, whose
+      /// coordinates follow the ring's in each row of modal_coordinates.
+      std::string         local_compliance = "none";
+      std::size_t         housing_coordinates = 0;
+      /// The run's pressure is the Winkler check's problem (the ring on the
+      /// layer over the rigid housing); otherwise, what it was instead.
+      std::string         other_problem() const
+      {
+        if (housing_coordinates > 0)
+          return "a flexible housing (" + std::to_string(housing_coordinates) + " coordinates)";
+        if (local_compliance != "none")
+          return "the half-space in series with the layer (local_compliance = " + local_compliance + ")";
+        return "";
+      }
     };
 
     /// One compared instant: the loads of a snapshot.
@@ -433,7 +448,7 @@ namespace fretsim::app
       std::vector<double>              full, run; ///< [nx] [Pa]
       std::vector<std::string>         reduced_names;
       std::vector<std::vector<double>> reduced; ///< per truncation, [nx] [Pa] (empty: the solve failed)
-      std::string                      run_local_compliance = "none"; ///< the run's half-space, if any
+      std::string                      run_other_problem; ///< RunFields::other_problem()
     };
 
     struct Row
@@ -566,10 +581,24 @@ namespace fretsim::app
           r.modal_coordinates = ResultsFile::read_dataset(in.results_file, "/fields/modal_coordinates", &dims);
           if (dims.size() != 2 || dims[0] != r.n_snapshots || dims[1] == 0)
             reject("has /fields/modal_coordinates of a shape other than [snapshots, coordinates]");
+          r.n_coordinates = dims[1];
+          try
+            {
+              r.housing_coordinates = static_cast<std::size_t>(
+                ResultsFile::read_double_attribute(in.results_file, "/", "housing_coordinates"));
+              r.local_compliance = ResultsFile::read_string_attribute(in.results_file, "/", "local_compliance");
+            }
+          catch (const std::exception &)
+            { // a run from before these were recorded: the ring alone on the layer
+              r.housing_coordinates = 0;
+              r.local_compliance    = "none";
+            }
+          if (r.housing_coordinates >= r.n_coordinates)
+            reject("records " + std::to_string(r.housing_coordinates) + " housing coordinates of " +
+                   std::to_string(r.n_coordinates) + " in /fields/modal_coordinates: none left for the ring");
           // A run with another model of the same ring (e.g. a larger n_cc)
           // still gives loads and pressures to compare; only its q is not.
-          r.n_coordinates = dims[1];
-          r.other_model   = dims[1] != model.matrices.size();
+          r.other_model = r.n_coordinates - r.housing_coordinates != model.matrices.size();
         }
       catch (const InputError &)
         {
@@ -705,9 +734,9 @@ namespace fretsim::app
       csv << "# pressure on the Winkler foundation in the interface grid's axial middle at instant " << profile.instant
           << " (snapshot " << profile.snapshot << ", t = " << std::setprecision(10) << profile.time
           << " s), the one with the highest full FE peak\n";
-      if (profile.run_local_compliance != "none")
-        csv << "# run_Pa is the run's own pressure, spread by the half-space (Interface/Local compliance = "
-            << profile.run_local_compliance << "): not the layer-alone problem of the other columns\n";
+      if (!profile.run_other_problem.empty())
+        csv << "# run_Pa is the run's own pressure, with " << profile.run_other_problem
+            << ": not the layer-alone problem of the other columns\n";
       csv << "theta_deg,full_Pa,run_Pa";
       for (const std::string &name : profile.reduced_names)
         csv << ",reduced_" << name << "_Pa";
@@ -757,10 +786,6 @@ namespace fretsim::app
                             .string();
     if (!std::filesystem::is_regular_file(in.reduction_config))
       p.reject("Model/Reduction configuration", "names '" + in.reduction_config + "', which does not exist");
-    if (!p.get("Model/Housing reduction configuration").empty())
-      p.reject("Model/Housing reduction configuration",
-               "must be empty for `compare`: it re-solves the ring on the rigid housing (a flexible housing's full-FE "
-               "check is not built yet)");
     in.model_file = p.get("Model/Model file");
     if (in.model_file.empty())
       in.model_file = (std::filesystem::path("results") /
@@ -779,7 +804,6 @@ namespace fretsim::app
         p.reject("Compare/Characteristic constraint modes", "expected counts >= 1, got 0");
     in.normal_stiffness    = p.get_double("Interface/Normal stiffness");
     in.radial_interference = p.get_double("Interface/Radial interference");
-    in.local_compliance    = p.get("Interface/Local compliance");
     return in;
   }
 
@@ -797,11 +821,6 @@ namespace fretsim::app
                std::to_string(in.normal_stiffness));
     if (!std::isfinite(in.radial_interference))
       reject("Interface/Radial interference", "must be finite");
-    if (in.local_compliance != "none" && in.local_compliance != "housing" && in.local_compliance != "both")
-      reject("Interface/Local compliance", "expected none, housing or both, got '" + in.local_compliance + "'");
-    // With a half-space the run's pressure is not the layer-alone problem
-    // the Winkler check solves: the two are not set against each other.
-    const bool run_on_layer = in.local_compliance == "none";
 
     // ---- Everything is read and checked before MPI starts and before any file is written.
     const SceneParameters    ring_parameters = read_ring_housing_parameters(in.reduction_config, {});
@@ -844,6 +863,10 @@ namespace fretsim::app
                                                          "does)");
     }
     const RunFields run = read_run(in, model);
+    // With a half-space or a flexible housing the run's pressure is not the
+    // layer-alone problem the Winkler check solves: the two are not set
+    // against each other.
+    const bool run_on_layer = run.other_problem().empty();
 
     const auto  &matrices = model.matrices;
     const bool   reduced_interface = !matrices.interface_frequencies_hz.empty();
@@ -883,9 +906,9 @@ namespace fretsim::app
         instant.tractions.pressure = cells(run.pressure);
         instant.tractions.shear_x  = cells(run.shear_x);
         instant.tractions.shear_y  = cells(run.shear_y);
-        if (!run.other_model)
+        if (!run.other_model) // the ring's coordinates, the first of the row
           instant.run_q.assign(run.modal_coordinates.begin() + k * run.n_coordinates,
-                               run.modal_coordinates.begin() + (k + 1) * run.n_coordinates);
+                               run.modal_coordinates.begin() + k * run.n_coordinates + model.matrices.size());
         instants.push_back(std::move(instant));
       }
 
@@ -983,6 +1006,8 @@ namespace fretsim::app
               << " snapshots, " << run.n_balls << " balls";
           if (run.ball_pass_frequency_hz > 0.0)
             out << ", ball pass " << run.ball_pass_frequency_hz << " Hz";
+          if (!run_on_layer)
+            out << "; with " << run.other_problem();
           out << "; instants at snapshots";
           for (const auto &i : instants)
             out << ' ' << i.snapshot;
@@ -1142,7 +1167,7 @@ namespace fretsim::app
               profile.full_peak = full_winkler->peak_pressure();
               profile.full      = mid_row(grid, full_winkler->pressure);
               profile.run       = mid_row(grid, instant.tractions.pressure);
-              profile.run_local_compliance = in.local_compliance;
+              profile.run_other_problem = run.other_problem();
               profile.reduced.assign(views.size(), {});
               for (std::size_t v = 0; v < views.size(); ++v)
                 if (reduced_winkler[v])
@@ -1274,9 +1299,10 @@ namespace fretsim::app
     for (const std::string &note : winkler_notes)
       out << "note: Winkler solve failed at " << note << "\n";
     if (!run_on_layer)
-      out << "note: the run had the half-space in series with the layer (Interface/Local compliance = "
-          << in.local_compliance << "): this check is of the model on the layer alone, and the run's pressure is "
-          << "not compared with it (nan); the tables above and below use the run's own pressure and tractions\n";
+      out << "note: the run had " << run.other_problem()
+          << ": this check is of the model on the layer over the rigid housing alone, and the run's pressure is not "
+             "compared with it (nan); the tables above and below use the run's own pressure and tractions on the "
+             "ring\n";
 
     // ---- The study: the worst instant per truncation.
     out << "\nerror against the reduced model's size (worst of the " << instants.size()
@@ -1329,7 +1355,7 @@ namespace fretsim::app
         const double steps_per_second = run.integrator_steps / run.time.back(); // of simulated time
         out << "\nfull-FE transient against the run (Newmark on the Winkler foundation, ball loads from the run, "
                "no bristle tractions"
-            << (run_on_layer ? "" : ", no half-space") << ": a lower bound on a full-FE co-simulation's cost)\n"
+            << (run_on_layer ? "" : ", without " + run.other_problem()) << ": a lower bound on a full-FE co-simulation's cost)\n"
             << "  " << transient.steps << " steps of dt = " << transient.time_step << " s (the run's mean: "
             << static_cast<long long>(run.integrator_steps) << " steps in " << run.time.back() << " s) from t = " << transient.start_time
             << " s; " << transient.solves << " linear solves, " << transient.factorisations

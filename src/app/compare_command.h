@@ -65,7 +65,10 @@ namespace fretsim::app
     std::string  model_file;       ///< reduced model (.h5) made from it
     /// The co-simulation's results.h5. A run made with another model of the
     /// same ring (other n_cc or m, same interface grid) is accepted: its loads
-    /// and pressures are compared, its own modal coordinates are not.
+    /// and pressures are compared, its own modal coordinates are not. A run
+    /// with the housing's half-space or a flexible housing (as its file
+    /// records) is accepted too: the ring is compared under its loads, and
+    /// its pressure, another problem, is not set against the Winkler check.
     std::string  results_file;
     unsigned int instants = 4;     ///< how many snapshots to compare
     /// Steps of the full-FE transient timed against the run (0: none).
@@ -75,12 +78,6 @@ namespace fretsim::app
     /// The housing interface's Winkler layer, as the run had it.
     double normal_stiffness    = 1e15; ///< k_n [Pa/m], > 0
     double radial_interference = 0.0;  ///< δ_fit [m]
-    /// The run's Interface/Local compliance (none, housing, both). With a
-    /// half-space the run's pressure is not the layer-alone problem the
-    /// Winkler check solves: the ring is still compared under the run's
-    /// loads, the Winkler check is of the model alone, and the run's
-    /// pressure is not set against it.
-    std::string local_compliance = "none";
   };
 
   /// Reads the scene file (and --set overrides) and resolves the paths: the

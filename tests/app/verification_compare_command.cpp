@@ -318,7 +318,9 @@ namespace
   }
 
   void write_results(const std::filesystem::path &path, const Model &m, const std::vector<Loads> &instants,
-                     const std::vector<std::vector<double>> &q, int nx_written)
+                     const std::vector<std::vector<double>> &q, int nx_written,
+                     const std::string &local_compliance = "none", std::size_t housing_coordinates = 0,
+                     double recorded_housing_coordinates = -1.0) // < 0: as written
   {
     ResultsFile file(path.string(), "bearing_housing", "");
     const auto  ny = static_cast<std::size_t>(m.ny), nx = static_cast<std::size_t>(nx_written);
@@ -327,9 +329,13 @@ namespace
     file.declare_field("shear_y", "Pa", {ny, nx});
     file.declare_field("ball_angle", "rad", {3});
     file.declare_field("ball_load", "N", {3});
-    file.declare_field("modal_coordinates", "-", {m.n});
+    file.declare_field("modal_coordinates", "-", {m.n + housing_coordinates});
     for (std::size_t k = 0; k < instants.size(); ++k)
       {
+        // A flexible housing's coordinates follow the ring's (values that
+        // would show if they were taken for the ring's).
+        std::vector<double> coordinates = q[k];
+        coordinates.resize(m.n + housing_coordinates, 1e-3);
         const auto cut = [&](const std::vector<double> &field) {
           std::vector<double> out;
           for (std::size_t j = 0; j < ny; ++j)
@@ -337,13 +343,17 @@ namespace
           return out;
         };
         const auto p = cut(instants[k].pressure), sx = cut(instants[k].shear_x), sy = cut(instants[k].shear_y);
-        file.append_snapshot(1e-3 * (k + 1), {&p, &sx, &sy, &instants[k].angles, &instants[k].forces, &q[k]});
+        file.append_snapshot(1e-3 * (k + 1), {&p, &sx, &sy, &instants[k].angles, &instants[k].forces, &coordinates});
       }
     file.set_root_attribute("ball_pass_frequency_hz", 100.0);
     // The run's steps and time, for the full-FE transient's timing.
     file.set_root_attribute("integrator_steps", 400.0);
     file.set_root_attribute("run_seconds", 2.0);
     file.set_root_attribute("inner_ring_frequency_hz", 50.0);
+    file.set_root_attribute("local_compliance", local_compliance);
+    file.set_root_attribute("housing_coordinates", recorded_housing_coordinates < 0.0
+                                                     ? static_cast<double>(housing_coordinates)
+                                                     : recorded_housing_coordinates);
   }
 
   using Row = std::map<std::string, double>;
@@ -565,36 +575,40 @@ TEST(CompareCommand, ReducedModelAgainstFullFeAtTheRunsLoads)
     EXPECT_NE(profile.find("reduced_m16_ncc40_Pa"), std::string::npos);
   }
 
-  // A run with the housing's half-space in series with the layer: the ring
-  // is compared under the same loads (the same numbers), the Winkler check
-  // is of the model alone, and the run's pressure, a different problem, is
-  // not set against it.
-  {
-    const auto with_half_space =
-      run_program("compare " + (dir / "scene.prm").string() +
-                  " -q --no-plots --set 'Interface/Local compliance=housing' --set 'Compare/Full transient steps=0' -o " +
-                  (dir / "half-space").string());
-    ASSERT_EQ(with_half_space.exit_code, 0) << with_half_space.output;
-    EXPECT_NE(with_half_space.output.find("Local compliance = housing"), std::string::npos) << with_half_space.output;
-    const std::vector<Row> half_space_rows = read_csv(dir / "half-space" / "compare.csv");
-    ASSERT_EQ(half_space_rows.size(), rows.size());
-    for (std::size_t k = 0; k < rows.size(); ++k)
-      {
-        for (const std::string key : {"error_u_r", "error_stress_grid", "error_stress_raceway", "error_energy",
-                                      "run_error_u_r", "run_error_stress_grid", "winkler_full_peak_pressure_Pa",
-                                      "winkler_error_pressure_max"})
-          if (!std::isnan(rows[k].at(key)))
-            {
-              EXPECT_LE(std::abs(half_space_rows[k].at(key) - rows[k].at(key)), 1e-8 * std::abs(rows[k].at(key)))
-                << key;
-            }
-        for (const std::string key : {"winkler_run_error_pressure_max", "winkler_run_error_pressure_l2",
-                                      "winkler_run_vs_reduced_error_pressure_max"})
-          EXPECT_TRUE(std::isnan(half_space_rows[k].at(key))) << key;
-      }
-    EXPECT_NE(read_text(dir / "half-space" / "compare_pressure.csv").find("spread by the half-space"),
-              std::string::npos);
-  }
+  // A run with the housing's half-space in series with the layer, and one
+  // with a flexible housing (its coordinates after the ring's), as their
+  // files record: the ring is compared under the same loads (the same
+  // numbers, the run's q included), the Winkler check is of the model alone,
+  // and the run's pressure, another problem, is not set against it.
+  write_results(dir / "half-space.h5", model, instants, q, model.nx, "housing");
+  write_results(dir / "flexible.h5", model, instants, q, model.nx, "none", 7);
+  for (const std::string name : {"half-space", "flexible"})
+    {
+      const auto other = run_program("compare " + (dir / "scene.prm").string() +
+                                     " -q --no-plots --set 'Compare/Full transient steps=0' --set 'Compare/Results file=" +
+                                     (dir / (name + ".h5")).string() + "' -o " + (dir / name).string());
+      ASSERT_EQ(other.exit_code, 0) << other.output;
+      EXPECT_NE(other.output.find(name == "flexible" ? "a flexible housing (7 coordinates)" : "local_compliance = housing"),
+                std::string::npos)
+        << other.output;
+      const std::vector<Row> other_rows = read_csv(dir / name / "compare.csv");
+      ASSERT_EQ(other_rows.size(), rows.size());
+      for (std::size_t k = 0; k < rows.size(); ++k)
+        {
+          for (const std::string key : {"error_u_r", "error_stress_grid", "error_stress_raceway", "error_energy",
+                                        "run_error_u_r", "run_error_stress_grid", "winkler_full_peak_pressure_Pa",
+                                        "winkler_error_pressure_max"})
+            if (!std::isnan(rows[k].at(key)))
+              {
+                EXPECT_LE(std::abs(other_rows[k].at(key) - rows[k].at(key)), 1e-8 * std::abs(rows[k].at(key)))
+                  << name << ' ' << key;
+              }
+          for (const std::string key : {"winkler_run_error_pressure_max", "winkler_run_error_pressure_l2",
+                                        "winkler_run_vs_reduced_error_pressure_max"})
+            EXPECT_TRUE(std::isnan(other_rows[k].at(key))) << name << ' ' << key;
+        }
+      EXPECT_NE(read_text(dir / name / "compare_pressure.csv").find("not the layer-alone problem"), std::string::npos);
+    }
 
   // The full-FE transient: three of the run's mean steps (its time / its
   // 400 steps), timed against the run's 2 s / 400 steps.
@@ -650,6 +664,8 @@ TEST(CompareCommand, BadInputNamesTheParameterAndWritesNothing)
   const std::vector<std::vector<double>> q(3, std::vector<double>(model.n, 0.0));
   write_results(dir / "results.h5", model, instants, q, model.nx);
   write_results(dir / "narrow.h5", model, instants, q, model.nx - 1);
+  // More housing coordinates recorded than the file holds in all.
+  write_results(dir / "no-ring.h5", model, instants, q, model.nx, "none", 0, static_cast<double>(model.n));
   write_text(dir / "scene.prm", scene(dir));
   // Another reduction (m = 12) of the same ring: the model file is not its.
   write_text(dir / "other.prm", std::regex_replace(small_ring(), std::regex("Fixed-interface modes = 16"),
@@ -660,6 +676,7 @@ TEST(CompareCommand, BadInputNamesTheParameterAndWritesNothing)
          {"Interface/Normal stiffness=0", "Interface/Normal stiffness"},
          {"Interface/Normal stiffness=-1e15", "Interface/Normal stiffness"},
          {"Interface/Local compliance=ring", "Interface/Local compliance"},
+         {"Compare/Results file=" + (dir / "no-ring.h5").string(), "Compare/Results file"},
          {"Compare/Characteristic constraint modes=2.5", "Compare/Characteristic constraint modes"},
          {"Model/Model file=" + (dir / "missing.h5").string(), "Model/Model file"},
          {"Model/Reduction configuration=other.prm", "Model/Model file"},

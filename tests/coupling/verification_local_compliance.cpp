@@ -1,18 +1,23 @@
 // The interface's local compliance (local_compliance.h): the layer in series
 // with an elastic half-space, solved as Polonsky & Keer's bound-constrained
 // problem with the approach given. Checked against Hertz (REFERENCES.md §1),
-// the layer-only limit, the wrap-around of the closed circumference, and its
-// sensitivity inside the interface Jacobian against finite differences.
+// the layer-only limit, the wrap-around of the closed circumference, its
+// sensitivity's own system (on one thread and on two), and the sensitivity
+// inside the interface Jacobian against finite differences.
 #include "coupling/local_compliance.h"
 #include "coupling/ring_coupling.h"
 #include "finite_differences.h"
 #include "synthetic_rings.h"
 
+#include <fretsim/contact/convolution.h>
+
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numeric>
 
 using namespace fretsim;
 using namespace fretsim::coupling;
@@ -67,6 +72,63 @@ TEST(LocalCompliance, AStiffHalfSpaceLeavesTheLayerAlone)
   // Tolerance: the solver's stopping gap, 1e-7 × max b, times k_n, against
   // the 1 MPa peak (the half-space's own 1e-25 m/Pa are far below).
   EXPECT_LT(worst / 1e6, 2e-7);
+}
+
+TEST(LocalCompliance, TheSensitivitySolvesItsSystemWhateverTheThreads)
+{
+  // (C_AA + I/k_n) S = R, every cell loaded (a wavy interference), several
+  // columns: each column's residual within the conjugate gradients' stop
+  // (1e-4 of its right-hand side), and the columns, shared out over the
+  // threads, give the same numbers to the last bit on one thread as on two.
+  const auto            grid = contact::SurfaceGrid::centred(48, 8, 0.02, 0.004);
+  constexpr double      modulus = 2.3e11, layer_stiffness = 1e18, tolerance = 1e-4;
+  constexpr std::size_t columns = 6;
+  contact::Field        start(grid.size()), rows(grid.size() * columns);
+  for (int j = 0; j < grid.ny; ++j)
+    for (int i = 0; i < grid.nx; ++i)
+      {
+        const std::size_t c = grid.index(i, j);
+        const double      x = grid.x(i) / 0.01, y = grid.y(j) / 0.002;
+        start[c]            = 1e-6 * (1.0 + 0.05 * std::cos(2.0 * x));
+        for (std::size_t k = 0; k < columns; ++k)
+          rows[c * columns + k] = 1e-6 * std::cos(static_cast<double>(k) * x + 0.3 * static_cast<double>(k) * y);
+      }
+  std::vector<std::size_t> loaded(grid.size());
+  std::iota(loaded.begin(), loaded.end(), std::size_t{0});
+  std::vector<std::vector<double>> by_threads;
+  for (const int threads : {1, 2})
+    {
+      omp_set_num_threads(threads);
+      LocalCompliance     half_space(grid, modulus, layer_stiffness, false, tolerance);
+      std::vector<double> sensitivity;
+      half_space.pressure_sensitivity(loaded, rows.data(), columns, sensitivity);
+      by_threads.push_back(sensitivity);
+    }
+  omp_set_num_threads(omp_get_num_procs());
+  EXPECT_EQ(by_threads[0], by_threads[1]);
+
+  const contact::SurfaceConvolution compliance(grid, [&](int di, int dj) {
+    return contact::influence::normal_displacement(di * grid.hx, dj * grid.hy, grid.hx, grid.hy, modulus);
+  });
+  double worst = 0.0;
+  for (std::size_t k = 0; k < columns; ++k)
+    {
+      contact::Field column(grid.size()), response;
+      double         largest_rhs = 0.0;
+      for (std::size_t c = 0; c < grid.size(); ++c)
+        {
+          column[c]   = by_threads[0][c * columns + k];
+          largest_rhs = std::max(largest_rhs, std::abs(rows[c * columns + k]));
+        }
+      compliance.apply(column, response);
+      for (std::size_t c = 0; c < grid.size(); ++c)
+        worst = std::max(worst, std::abs(response[c] + column[c] / layer_stiffness - rows[c * columns + k]) /
+                                  largest_rhs);
+    }
+  std::printf("sensitivity residual %.2e of the right-hand side\n", worst);
+  // Tolerance: the conjugate gradients stop when their recursively updated
+  // residual is within 1e-4; the true one may drift from it by round-off.
+  EXPECT_LT(worst, 1.5 * tolerance);
 }
 
 TEST(LocalCompliance, OnTheClosedCircumferenceAPatchAcrossTheSeamIsThePatchMidGrid)

@@ -140,7 +140,10 @@ def plot_winkler(rows, axes, profile_path):
     if os.path.exists(profile_path):
         comments, columns = read_profile(profile_path)
         title = comments[0] if comments else ""
-        half_space = any("half-space" in line for line in comments[1:])
+        # A second comment line names what else the run had (compare's note:
+        # "run_Pa is the run's own pressure, with <what>: not ...").
+        other = next((line.split(", with ", 1)[1].split(": not", 1)[0]
+                      for line in comments[1:] if ", with " in line), None)
         theta = columns["theta_deg"]
         reduced = [name for name in columns if name.startswith("reduced_")]
         model = [r for r in rows if r["whole_model"] == "1"]
@@ -158,7 +161,7 @@ def plot_winkler(rows, axes, profile_path):
             ax.plot(theta, [1e-6 * v for v in columns[model_name]], "r-", lw=1.5,
                     label="reduced, the model (" + model_name.replace("reduced_", "").replace("_Pa", "") + ")")
         ax.plot(theta, [1e-6 * v for v in columns["full_Pa"]], "k-", lw=2, label="full FE")
-        ax.plot(theta, [1e-6 * v for v in columns["run_Pa"]], "b--", lw=1, label="the run (through the housing's half-space: not this problem)" if half_space
+        ax.plot(theta, [1e-6 * v for v in columns["run_Pa"]], "b--", lw=1, label=f"the run (with {other}: not this problem)" if other
                 else "the run (dynamic, with tractions)")
         ax.set_title(textwrap.fill(title, 70), fontsize=8)
     ax.set_xlabel("theta [deg] (axial mid-row of the interface grid)")

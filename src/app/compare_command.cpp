@@ -582,16 +582,22 @@ namespace fretsim::app
           if (dims.size() != 2 || dims[0] != r.n_snapshots || dims[1] == 0)
             reject("has /fields/modal_coordinates of a shape other than [snapshots, coordinates]");
           r.n_coordinates = dims[1];
+          // A run from before these were recorded (each came at its own
+          // time) had the ring alone on the layer: the defaults stay.
           try
             {
               r.housing_coordinates = static_cast<std::size_t>(
                 ResultsFile::read_double_attribute(in.results_file, "/", "housing_coordinates"));
+            }
+          catch (const std::exception &)
+            {
+            }
+          try
+            {
               r.local_compliance = ResultsFile::read_string_attribute(in.results_file, "/", "local_compliance");
             }
           catch (const std::exception &)
-            { // a run from before these were recorded: the ring alone on the layer
-              r.housing_coordinates = 0;
-              r.local_compliance    = "none";
+            {
             }
           if (r.housing_coordinates >= r.n_coordinates)
             reject("records " + std::to_string(r.housing_coordinates) + " housing coordinates of " +

@@ -17,7 +17,7 @@ namespace fretsim::coupling
     double                      sensitivity_tolerance;
     double                      self = 0.0;
     double                      uniform = 0.0; ///< the largest displacement under p = 1 everywhere [m/Pa]
-    contact::Field              full, response, gap, direction; // work arrays
+    contact::Field              response, gap, direction; // work arrays of solve()
     Statistics                  statistics;
     /// The last sensitivity per grid cell and column: the next one's start,
     /// or the answer itself while the loaded cells stay nearly the same (the
@@ -47,10 +47,9 @@ namespace fretsim::coupling
       , sensitivity_tolerance(cg_tolerance)
       , self(contact::influence::normal_displacement(0.0, 0.0, g.hx, g.hy, modulus))
     {
-      for (auto *field : {&full, &response, &gap, &direction})
+      for (auto *field : {&response, &gap, &direction})
         field->assign(g.size(), 0.0);
-      std::fill(full.begin(), full.end(), 1.0);
-      compliance.apply(full, response);
+      compliance.apply(contact::Field(g.size(), 1.0), response);
       uniform = *std::max_element(response.begin(), response.end()) + layer_compliance;
     }
 

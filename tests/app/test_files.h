@@ -2,6 +2,8 @@
 // Scratch files and directories for the application tests.
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <sstream>
 #include <cmath>
 #include <cstdlib>
 #include <regex>
@@ -28,6 +30,31 @@ namespace fretsim::test_files
   {
     std::ifstream in(path);
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  }
+
+  /// A CSV table with a header line, as numbers by column name ("nan" reads
+  /// as NaN, text as 0).
+  using Row = std::map<std::string, double>;
+
+  inline std::vector<Row> read_csv(const std::filesystem::path &path)
+  {
+    std::istringstream       text(read_text(path));
+    std::string              line;
+    std::vector<std::string> header;
+    std::getline(text, line);
+    for (std::stringstream cells(line); std::getline(cells, line, ',');)
+      header.push_back(line);
+    std::vector<Row> rows;
+    while (std::getline(text, line))
+      {
+        Row               row;
+        std::stringstream cells(line);
+        std::string       cell;
+        for (std::size_t k = 0; std::getline(cells, cell, ','); ++k)
+          row[header.at(k)] = std::strtod(cell.c_str(), nullptr);
+        rows.push_back(row);
+      }
+    return rows;
   }
 
   inline void write_text(const std::filesystem::path &path, const std::string &text)

@@ -64,6 +64,32 @@ namespace
     state.counters["cells"] = static_cast<double>(grid.size());
   }
 
+  /// The ring interface's grid (paper scene: 360 x 16 cells over the
+  /// circumference and the width, closed in x): the two evaluations of the
+  /// same convolution, first arg 0 two-dimensional, 1 rows along x; second
+  /// the axial cells (where SurfaceConvolution's automatic choice switches).
+  void BM_ConvolutionRingInterface(benchmark::State &state)
+  {
+    const SurfaceGrid grid = SurfaceGrid::centred(360, static_cast<int>(state.range(1)), M_PI * 0.04, 0.009);
+    const auto kernel = [&](int di, int dj) {
+      di = ((di % grid.nx) + grid.nx) % grid.nx;
+      if (di > grid.nx / 2)
+        di -= grid.nx;
+      return influence::normal_displacement(di * grid.hx, dj * grid.hy, grid.hx, grid.hy, contact_modulus);
+    };
+    const SurfaceConvolution convolution(grid, kernel, true,
+                                         state.range(0) == 0 ? SurfaceConvolution::Method::two_dimensional
+                                                             : SurfaceConvolution::Method::rows_along_x);
+    Field pressure(grid.size()), displacement;
+    for (std::size_t c = 0; c < pressure.size(); ++c)
+      pressure[c] = c % 360 < 180 ? 1e6 : 0.0;
+    for (auto _ : state)
+      {
+        convolution.apply(pressure, displacement);
+        benchmark::DoNotOptimize(displacement.data());
+      }
+  }
+
   void BM_OperatorSetup(benchmark::State &state)
   {
     const auto grid = paper_grid(static_cast<int>(state.range(0)));
@@ -92,6 +118,9 @@ namespace
 
 BENCHMARK(BM_ConvolutionFft)->RangeMultiplier(2)->Range(32, 256)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ConvolutionDirect)->RangeMultiplier(2)->Range(32, 256)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ConvolutionRingInterface)
+  ->ArgsProduct({{0, 1}, {16, 24, 32}})
+  ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_OperatorSetup)->RangeMultiplier(2)->Range(64, 256)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_NormalSolve)->RangeMultiplier(2)->Range(64, 256)->Unit(benchmark::kMillisecond);
 

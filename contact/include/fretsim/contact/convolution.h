@@ -13,7 +13,9 @@ namespace fretsim::contact
   /// Linear (non-periodic) discrete convolution w_i = sum_j K(i - j) u_j on a
   /// SurfaceGrid, evaluated with DC-FFT (Liu, Wang & Liu, Wear 243, 2000):
   /// the kernel is zero-padded to 2nx × 2ny in wrap-around order, transformed
-  /// once, and the FFTW plans are reused on every call. Exact to round-off
+  /// once, and the FFTW plans are reused on every call. On grids with few
+  /// rows (the ring interface's 16 axial cells) the transform runs along x
+  /// only and the rows are summed directly per frequency. Exact to round-off
   /// against direct summation.
   class SurfaceConvolution
   {
@@ -21,7 +23,16 @@ namespace fretsim::contact
     /// periodic_x: the grid closes on itself in x (the unrolled cylinder);
     /// x is then not padded, and the kernel must be periodic,
     /// K(di, dj) = K(di ± nx, dj) (e.g. the nearest image's coefficient).
-    SurfaceConvolution(const SurfaceGrid &grid, const InfluenceFunction &kernel, bool periodic_x = false);
+    /// How the convolution is evaluated; both are exact to round-off.
+    enum class Method
+    {
+      automatic,        ///< rows_along_x for ny <= 32, else two_dimensional
+      two_dimensional,  ///< 2-D DC-FFT, padded in x (unless periodic) and y
+      rows_along_x      ///< FFT along x, then per x-frequency the direct sum over the ny rows
+    };
+
+    SurfaceConvolution(const SurfaceGrid &grid, const InfluenceFunction &kernel, bool periodic_x = false,
+                       Method method = Method::automatic);
     ~SurfaceConvolution();
     SurfaceConvolution(SurfaceConvolution &&) noexcept;
     SurfaceConvolution &operator=(SurfaceConvolution &&) noexcept;

@@ -1,5 +1,7 @@
 #include "app/compare_command.h"
 
+#include "app/compare_housing.h"
+
 #include "app/reduce_command.h"
 #include "app/ring_housing.h"
 #include "output/results_file.h"
@@ -25,6 +27,7 @@
 #include <iomanip>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <ostream>
 #include <sstream>
 #include <stdexcept>
@@ -810,6 +813,21 @@ namespace fretsim::app
         p.reject("Compare/Characteristic constraint modes", "expected counts >= 1, got 0");
     in.normal_stiffness    = p.get_double("Interface/Normal stiffness");
     in.radial_interference = p.get_double("Interface/Radial interference");
+    // Resolved as the scene resolves them (bearing_scene.cpp).
+    if (const std::string housing = p.get("Model/Housing reduction configuration"); !housing.empty())
+      {
+        in.housing_reduction_config =
+          (std::filesystem::path(config_file).parent_path() / housing).lexically_normal().string();
+        if (!std::filesystem::is_regular_file(in.housing_reduction_config))
+          p.reject("Model/Housing reduction configuration",
+                   "names '" + in.housing_reduction_config + "', which does not exist");
+        in.housing_model_file = p.get("Model/Housing model file");
+        if (in.housing_model_file.empty())
+          in.housing_model_file =
+            (std::filesystem::path("results") /
+             (std::filesystem::path(in.housing_reduction_config).stem().string() + "-model.h5"))
+              .string();
+      }
     return in;
   }
 
@@ -869,6 +887,21 @@ namespace fretsim::app
                                                          "does)");
     }
     const RunFields run = read_run(in, model);
+    // A flexible housing's own model, checked now (nothing is built or
+    // written before every input is read); compared after the ring.
+    std::optional<HousingComparison> housing;
+    if (run.housing_coordinates > 0)
+      {
+        if (in.housing_reduction_config.empty())
+          reject("Model/Housing reduction configuration",
+                 "is empty, but the run (" + in.results_file + ") had " + run.other_problem() +
+                   ": name the housing's reduction configuration the run was made with");
+        housing.emplace(in.source, in.housing_reduction_config, in.housing_model_file, grid.size());
+        if (housing->coordinates() != run.housing_coordinates)
+          reject("Model/Housing model file", "'" + in.housing_model_file + "' has " +
+                                               std::to_string(housing->coordinates()) + " coordinates; the run (" +
+                                               in.results_file + ") had " + std::to_string(run.housing_coordinates));
+      }
     // With a half-space or a flexible housing the run's pressure is not the
     // layer-alone problem the Winkler check solves: the two are not set
     // against each other.
@@ -1273,7 +1306,29 @@ namespace fretsim::app
               transient_note = error.what();
             }
         }
-    } // the FE objects go before MPI stops
+    } // the ring's FE objects go before the housing's are built
+
+    // ---- A flexible housing: its full FE (held as it was reduced) under the
+    // tractions the run passed to it, against its reduced model.
+    std::vector<HousingComparison::Result> housing_results;
+    if (housing)
+      {
+        std::vector<HousingComparison::Instant> housing_instants;
+        for (const Instant &instant : instants)
+          {
+            HousingComparison::Instant h{instant.tractions.pressure, instant.tractions.shear_x,
+                                         instant.tractions.shear_y, {}};
+            if (!run.other_model) // the housing's coordinates follow the ring's in the row
+              {
+                const auto row = run.modal_coordinates.begin() +
+                                 static_cast<std::ptrdiff_t>(instant.snapshot * run.n_coordinates +
+                                                             model.matrices.size());
+                h.run_q.assign(row, row + static_cast<std::ptrdiff_t>(run.housing_coordinates));
+              }
+            housing_instants.push_back(std::move(h));
+          }
+        housing_results = housing->run(housing_instants);
+      } // the FE objects go before MPI stops
 
     std::vector<std::string> files;
     if (!root)
@@ -1384,7 +1439,41 @@ namespace fretsim::app
       out << "\nnote: no full-FE transient: the results file does not record the run's steps and time (a run made "
              "before they were written)\n";
 
+    if (housing)
+      {
+        out << "\nthe flexible housing (" << in.housing_reduction_config << ", " << housing->coordinates()
+            << " coordinates; full FE " << housing->full_dofs() << " DoFs, set-up " << std::fixed
+            << std::setprecision(2) << housing->setup_seconds() << std::defaultfloat
+            << " s) under the run's interface tractions, equal and opposite to the ring's; u_r on the bore grid,\n"
+               " max |error| / max |u_r full|: the reduced model solved statically, and the run's own housing "
+               "coordinates (with its dynamics)\n"
+            << "  inst        t [s]  max u_r full [um]  reduced err    run err  run vs reduced   full [s]  reduced [ms]\n";
+        for (std::size_t i = 0; i < housing_results.size(); ++i)
+          {
+            const auto &h = housing_results[i];
+            out << std::setw(6) << i << std::setw(13) << std::setprecision(6) << instants[i].time << std::fixed
+                << std::setprecision(4) << std::setw(19) << 1e6 * h.full_max_u_r << std::defaultfloat << "  "
+                << sci(h.reduced_error) << ' ' << sci(h.run_error) << "      " << sci(h.run_vs_reduced) << std::fixed
+                << std::setprecision(3) << std::setw(11) << h.full_seconds << std::setw(14) << 1e3 * h.reduced_seconds << "\n"
+                << std::defaultfloat;
+          }
+      }
+
     std::filesystem::create_directories(output_directory);
+    if (housing)
+      {
+        const std::string housing_path = (std::filesystem::path(output_directory) / "compare_housing.csv").string();
+        std::ofstream     csv(housing_path);
+        csv << "instant,time_s,full_max_u_r_m,reduced_u_r_error,run_u_r_error,run_vs_reduced_u_r,full_s,reduced_s\n"
+            << std::setprecision(10);
+        for (std::size_t i = 0; i < housing_results.size(); ++i)
+          {
+            const auto &h = housing_results[i];
+            csv << i << ',' << instants[i].time << ',' << h.full_max_u_r << ',' << h.reduced_error << ','
+                << h.run_error << ',' << h.run_vs_reduced << ',' << h.full_seconds << ',' << h.reduced_seconds << '\n';
+          }
+        files.push_back(housing_path);
+      }
     const std::string csv_path = (std::filesystem::path(output_directory) / "compare.csv").string();
     write_csv(csv_path, rows);
     files.push_back(csv_path);

@@ -75,6 +75,10 @@ namespace fretsim::app
     unsigned int full_transient_steps = 20;
     /// Truncations studied: m' and n_cc' (those above the model's are left out).
     std::vector<unsigned int> fixed_interface_modes, constraint_modes;
+    /// A flexible housing's reduction configuration and reduced model
+    /// (Model/Housing ...; empty: the scene's housing is rigid). With a run
+    /// that had it, the housing is compared too (compare_housing.h).
+    std::string housing_reduction_config, housing_model_file;
     /// The housing interface's Winkler layer, as the run had it.
     double normal_stiffness    = 1e15; ///< k_n [Pa/m], > 0
     double radial_interference = 0.0;  ///< δ_fit [m]

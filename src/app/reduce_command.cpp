@@ -650,6 +650,11 @@ namespace fretsim::app
     return read_request(read_ring_housing_parameters(config_file, overrides)).input_hash;
   }
 
+  std::vector<fem::Support> reduction_supports(const std::string &config_file)
+  {
+    return supports(read_request(read_ring_housing_parameters(config_file, {})).clamped_surfaces);
+  }
+
   std::vector<std::string> run_reduction_study(const RingHousingCommandOptions &options, std::ostream &out)
   {
     const SceneParameters parameters = read_ring_housing_parameters(options.config_file, options.overrides);

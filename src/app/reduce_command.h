@@ -27,5 +27,10 @@ namespace fretsim::app
   /// a model file is current when its hash matches. Throws InputError.
   std::string reduce_input_hash(const std::string &config_file,
                                 const std::vector<std::pair<std::string, std::string>> &overrides = {});
+
+  /// The zero-displacement supports the configuration holds its body by
+  /// (Reduction/Clamped surfaces: a housing at its outside). Throws InputError.
+  std::vector<fem::Support> reduction_supports(const std::string &config_file);
+
   std::vector<std::string> run_reduction_study(const RingHousingCommandOptions &options, std::ostream &out);
 } // namespace fretsim::app

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <array>
 #include <complex>
-#include <cstring>
 #include <memory>
 #include <mutex>
 #include <stdexcept>

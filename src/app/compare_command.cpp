@@ -889,13 +889,10 @@ namespace fretsim::app
     const RunFields run = read_run(in, model);
     // A flexible housing's own model, checked now (nothing is built or
     // written before every input is read); compared after the ring.
+    // A scene that names no housing model gets its ring compared and a note.
     std::optional<HousingComparison> housing;
-    if (run.housing_coordinates > 0)
+    if (run.housing_coordinates > 0 && !in.housing_reduction_config.empty())
       {
-        if (in.housing_reduction_config.empty())
-          reject("Model/Housing reduction configuration",
-                 "is empty, but the run (" + in.results_file + ") had " + run.other_problem() +
-                   ": name the housing's reduction configuration the run was made with");
         housing.emplace(in.source, in.housing_reduction_config, in.housing_model_file, grid.size());
         if (housing->coordinates() != run.housing_coordinates)
           reject("Model/Housing model file", "'" + in.housing_model_file + "' has " +
@@ -1458,6 +1455,10 @@ namespace fretsim::app
                 << std::defaultfloat;
           }
       }
+
+    if (run.housing_coordinates > 0 && !housing)
+      out << "\nnote: the run had " << run.other_problem()
+          << ", but the scene names no Model/Housing reduction configuration: the housing is not compared\n";
 
     std::filesystem::create_directories(output_directory);
     if (housing)

@@ -788,18 +788,20 @@ namespace fretsim::app
     const std::string reduction  = p.get("Model/Reduction configuration");
     if (reduction.empty())
       p.reject("Model/Reduction configuration", "is empty; name the ring_housing configuration of the reduced model");
-    const std::filesystem::path reduction_path(reduction);
-    in.reduction_config = (reduction_path.is_absolute() ? reduction_path
-                                                         : std::filesystem::path(config_file).parent_path() / reduction_path)
-                            .lexically_normal()
-                            .string();
-    if (!std::filesystem::is_regular_file(in.reduction_config))
-      p.reject("Model/Reduction configuration", "names '" + in.reduction_config + "', which does not exist");
-    in.model_file = p.get("Model/Model file");
-    if (in.model_file.empty())
-      in.model_file = (std::filesystem::path("results") /
-                       (std::filesystem::path(in.reduction_config).stem().string() + "-model.h5"))
-                        .string();
+    // A reduction configuration relative to the scene file, its model file
+    // by default results/<configuration name>-model.h5, as the scene
+    // resolves them (bearing_scene.cpp).
+    const auto resolve = [&](const std::string &config_parameter, const std::string &file_parameter,
+                             std::string &config, std::string &file) {
+      config = (std::filesystem::path(config_file).parent_path() / p.get(config_parameter)).lexically_normal().string();
+      if (!std::filesystem::is_regular_file(config))
+        p.reject(config_parameter, "names '" + config + "', which does not exist");
+      file = p.get(file_parameter);
+      if (file.empty())
+        file = (std::filesystem::path("results") / (std::filesystem::path(config).stem().string() + "-model.h5"))
+                 .string();
+    };
+    resolve("Model/Reduction configuration", "Model/Model file", in.reduction_config, in.model_file);
     in.results_file = p.get("Compare/Results file");
     if (in.results_file.empty())
       in.results_file =
@@ -813,21 +815,9 @@ namespace fretsim::app
         p.reject("Compare/Characteristic constraint modes", "expected counts >= 1, got 0");
     in.normal_stiffness    = p.get_double("Interface/Normal stiffness");
     in.radial_interference = p.get_double("Interface/Radial interference");
-    // Resolved as the scene resolves them (bearing_scene.cpp).
-    if (const std::string housing = p.get("Model/Housing reduction configuration"); !housing.empty())
-      {
-        in.housing_reduction_config =
-          (std::filesystem::path(config_file).parent_path() / housing).lexically_normal().string();
-        if (!std::filesystem::is_regular_file(in.housing_reduction_config))
-          p.reject("Model/Housing reduction configuration",
-                   "names '" + in.housing_reduction_config + "', which does not exist");
-        in.housing_model_file = p.get("Model/Housing model file");
-        if (in.housing_model_file.empty())
-          in.housing_model_file =
-            (std::filesystem::path("results") /
-             (std::filesystem::path(in.housing_reduction_config).stem().string() + "-model.h5"))
-              .string();
-      }
+    if (!p.get("Model/Housing reduction configuration").empty())
+      resolve("Model/Housing reduction configuration", "Model/Housing model file", in.housing_reduction_config,
+              in.housing_model_file);
     return in;
   }
 

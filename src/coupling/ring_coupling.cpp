@@ -135,6 +135,8 @@ namespace fretsim::coupling
     /// step they slide on at the limit).
     std::vector<unsigned char> slipping;
     bool                       committing = false; ///< evaluating for accept()
+    /// InStepBristleLaw::implicit_euler: the step sees the update's own law.
+    bool consistent;
 
     // The half-space in series with the layer (InterfaceSettings::
     // local_compliance_modulus), its last pressure (the next solve's start)
@@ -153,6 +155,7 @@ namespace fretsim::coupling
       , by_penetration(cells)
       , slip_stiffness(cells)
       , band_share(cells)
+      , consistent(s.in_step_bristle_law == InStepBristleLaw::implicit_euler)
     {
       for (auto *field : {&tau_x, &tau_y, &u_t, &u_z, &pressure, &trial_tau_x, &trial_tau_y, &trial_pressure})
         field->assign(cells, 0.0);
@@ -201,6 +204,38 @@ namespace fretsim::coupling
 #pragma omp simd
       for (std::size_t j = 0; j < n; ++j)
         out[j] += weights[0] * r[j] + weights[1] * t[j] + weights[2] * z[j];
+    }
+
+    /// The paper's implicit Euler law τ = (τ_n + k_t ds) / D, D = 1 + k_t |ds| / (μp),
+    /// clamped to μp (contact::bristle_step) with, if asked, ∂τ/∂ds
+    /// (not symmetric) and ∂τ/∂p (μ ∂τ/∂(μp)).
+    Eigen::Vector2d bristle_law(const Eigen::Vector2d &start, const Eigen::Vector2d &slip, double mu_p,
+                                Eigen::Matrix2d *by_slip, Eigen::Vector2d *by_pressure) const
+    {
+      const double k_t = settings.tangential_stiffness, mu = settings.friction_coefficient;
+      const auto   next = contact::bristle_step(start.x(), start.y(), k_t, mu_p, slip.x(), slip.y());
+      if (by_slip == nullptr || !(mu_p > 0.0))
+        return {next.x, next.y};
+      const double          slip_length = slip.norm();
+      const double          denominator = 1.0 + k_t * slip_length / mu_p;
+      const Eigen::Vector2d numerator   = start + k_t * slip;
+      if (numerator.norm() > mu_p * denominator)
+        { // the Coulomb clamp (the pressure dropped below the stored traction's)
+          const Eigen::Vector2d unit = numerator.normalized();
+          *by_slip     = mu_p * k_t / numerator.norm() * (Eigen::Matrix2d::Identity() - unit * unit.transpose());
+          *by_pressure = mu * unit;
+        }
+      else
+        {
+          // At ds = 0 (the step's start) |ds| has no derivative: the spring's k_t I.
+          *by_slip = (k_t / denominator) * Eigen::Matrix2d::Identity();
+          if (slip_length > 0.0)
+            {
+              *by_slip -= k_t / (mu_p * denominator * denominator) * numerator * (slip / slip_length).transpose();
+              *by_pressure = (mu * k_t * slip_length / (mu_p * mu_p * denominator * denominator)) * numerator;
+            }
+        }
+      return {next.x, next.y};
     }
 
     struct LayerPressure
@@ -282,7 +317,12 @@ namespace fretsim::coupling
             const double mu_p = mu * p;
             Eigen::Vector2d traction, by_pressure = Eigen::Vector2d::Zero();
             Eigen::Matrix2d by_slip = Eigen::Matrix2d::Zero();
-            if (committing)
+            if (consistent && !committing)
+              { // the update's own law over the slip so far, and its derivative
+                traction = bristle_law(Eigen::Vector2d(tau_x[c], tau_y[c]), Eigen::Vector2d(ds_x, ds_y), mu_p,
+                                       jacobian ? &by_slip : nullptr, &by_pressure);
+              }
+            else if (committing)
               { // the paper's implicit Euler update over the accepted step
                 const auto next = contact::bristle_step(tau_x[c], tau_y[c], k_t, mu_p, ds_x, ds_y);
                 traction        = {next.x, next.y};
@@ -347,15 +387,24 @@ namespace fretsim::coupling
       if (active.empty())
         return; // (and Eigen's product blocking divides by a zero depth)
       const auto m = static_cast<Eigen::Index>(active.size()), size = static_cast<Eigen::Index>(n);
-      RowMatrix  normal_rows(m, size), radial_rows(m, size), tangential_rows(2 * m, size);
-      RowMatrix  g(3, size); // one cell's rows in double
+      // The implicit Euler law's ∂τ/∂ds is not symmetric: its tangential part
+      // is the general product G_tᵀ (S_c G_t) (`slipped_rows` the latter).
+      RowMatrix normal_rows(m, size), radial_rows(m, size), tangential_rows(2 * m, size);
+      RowMatrix slipped_rows(consistent ? 2 * m : 0, size);
+      RowMatrix g(3, size); // one cell's rows in double
       for (Eigen::Index a = 0; a < m; ++a)
         {
           const std::size_t c = active[a];
           g = Eigen::Map<const Eigen::Matrix<float, 3, Eigen::Dynamic, Eigen::RowMajor>>(row(c, 0), 3, size)
                 .cast<double>();
-          radial_rows.row(a)      = g.row(0);
-          normal_rows.row(a)      = by_penetration[c].transpose() * g;
+          radial_rows.row(a) = g.row(0);
+          normal_rows.row(a) = by_penetration[c].transpose() * g;
+          if (consistent)
+            {
+              tangential_rows.middleRows(2 * a, 2) = g.bottomRows(2);
+              slipped_rows.middleRows(2 * a, 2)    = slip_stiffness[c] * g.bottomRows(2);
+              continue;
+            }
           const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> split(slip_stiffness[c]);
           for (int k = 0; k < 2; ++k)
             tangential_rows.row(2 * a + k) = std::sqrt(std::max(split.eigenvalues()[k], 0.0)) *
@@ -368,11 +417,16 @@ namespace fretsim::coupling
           radial_rows = Eigen::Map<const RowMatrix>(sensitivity.data(), m, size);
         }
       const Eigen::MatrixXd normal = cell_area * (normal_rows.transpose() * radial_rows);
-      Eigen::MatrixXd       tangential = Eigen::MatrixXd::Zero(size, size);
-      tangential.selfadjointView<Eigen::Lower>().rankUpdate(tangential_rows.transpose(), -cell_area);
       Eigen::Map<RowMatrix> dq(out.by_position, size, size), dv(out.by_velocity, size, size);
       dq += normal;
-      dq += tangential.selfadjointView<Eigen::Lower>();
+      if (consistent)
+        dq.noalias() -= cell_area * (tangential_rows.transpose() * slipped_rows);
+      else
+        {
+          Eigen::MatrixXd tangential = Eigen::MatrixXd::Zero(size, size);
+          tangential.selfadjointView<Eigen::Lower>().rankUpdate(tangential_rows.transpose(), -cell_area);
+          dq += tangential.selfadjointView<Eigen::Lower>();
+        }
       dv += settings.normal_damping_time * normal;
       std::vector<Eigen::Index> band;
       for (Eigen::Index a = 0; a < m; ++a)

@@ -112,7 +112,7 @@ namespace fretsim::coupling
     /// Where the half-space's pressure sensitivity in Newton's matrix stops,
     /// relative to each right-hand side (LocalCompliance) [-].
     double sensitivity_tolerance = LocalCompliance::default_sensitivity_tolerance;
-    InStepBristleLaw in_step_bristle_law = InStepBristleLaw::linearised;
+    InStepBristleLaw in_step_bristle_law = InStepBristleLaw::implicit_euler;
   };
 
   /// Loads and their derivatives at a trial state, added into caller arrays:
@@ -138,18 +138,18 @@ namespace fretsim::coupling
   ///     ds = -(u_t(q) - u_t,n)   (the housing's shift relative to the ring).
   /// accept() applies exactly this update after every accepted step. Within a
   /// step (add_forces) the integrator sees, by InterfaceSettings::
-  /// in_step_bristle_law, either the same law (implicit_euler: the structure
-  /// and the bristles in one implicit step, so what the step was solved with
-  /// is what is committed; its ∂τ/∂ds is not symmetric and has a kink at
-  /// ds = 0, where thousands of cells sit at each step's start, and Newton's
-  /// method fails on it often: about 2× the run time), or (linearised, the
-  /// default) a smooth approximation: a sticking cell is a linear spring
-  /// τ_n + k_t ds capped at μp, a sliding cell (|τ_n| ≥ 0.9 μ p_n) keeps its
-  /// ratio τ/p and direction. The linearised step is stiffer than the law
-  /// near saturation and a sliding cell's traction does not grow towards μp
-  /// within it; the committed update then differs from what the step
-  /// balanced, and that splitting error does not vanish with the step size:
-  /// D_max −1.8 % on the paper case, −15 % on the suite's small ring (README).
+  /// in_step_bristle_law, either the same law (implicit_euler, the default:
+  /// the structure and the bristles in one implicit step, so what the step
+  /// balanced is what is committed; its ∂τ/∂ds is not symmetric, and at
+  /// ds = 0, where every cell starts its step, a cell near μp takes the
+  /// derivative of sliding on), or (linearised) an approximation: a sticking
+  /// cell is a linear spring τ_n + k_t ds capped at μp, a sliding cell
+  /// (|τ_n| ≥ 0.9 μ p_n) keeps its ratio τ/p and direction. The linearised
+  /// step is stiffer than the law near saturation and a sliding cell's
+  /// traction does not grow towards μp within it; the committed update then
+  /// differs from what the step balanced, a splitting error that does not
+  /// vanish with the step size (D_max −1.8 % on the paper case, −15 % on the
+  /// suite's small ring: README), and the kicks it leaves cost steps.
   class InterfaceContact
   {
   public:

@@ -85,7 +85,6 @@ namespace fretsim::coupling
   /// the two interface grids or radii differ.
   ReducedRing with_flexible_housing(const ReducedRing &ring, const ReducedHousing &housing);
 
-  /// Housing interface contact settings (SI).
   /// What the integrator sees of the bristles within a step (InterfaceContact).
   enum class InStepBristleLaw
   {
@@ -93,6 +92,7 @@ namespace fretsim::coupling
     implicit_euler ///< the update's own law: bristles and structure solved together
   };
 
+  /// Housing interface contact settings (SI).
   struct InterfaceSettings
   {
     double normal_stiffness     = 1e16; ///< k_n of the Winkler layer [Pa/m]

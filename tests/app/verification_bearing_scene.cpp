@@ -279,6 +279,12 @@ TEST(BearingScene, AHalfSpaceAtTheInterfaceSpreadsThePressureAndMakesTheLayerAPe
   const auto stiff  = run("stiff", "--set 'Interface/Local compliance=housing' --set 'Interface/Normal stiffness=1e17'");
   // The paper's scene loosens Newton to 0.5 with the half-space (README).
   const auto loose = run("loose", "--set 'Interface/Local compliance=housing' --set 'Integrator/Newton tolerance=0.5'");
+  // The linearised in-step bristle law still runs, and the summary says which law a run used.
+  const auto linearised = run("linearised", "--set 'Interface/Local compliance=housing' "
+                                            "--set 'Interface/In-step bristle law=linearised'");
+  EXPECT_NE(local.summary.find("\"in_step_bristle_law\": \"implicit Euler\""), std::string::npos);
+  EXPECT_NE(linearised.summary.find("\"in_step_bristle_law\": \"linearised\""), std::string::npos);
+  EXPECT_LT(linearised.balance, 0.01);
   std::printf("peak pressure: layer alone %.4g MPa, with the half-space %.4g MPa (k_n x100: %.4g MPa); "
               "away from the axial edges %.4g, %.4g, %.4g MPa\n",
               layer.peak_pressure / 1e6, local.peak_pressure / 1e6, stiff.peak_pressure / 1e6,

@@ -207,11 +207,11 @@ namespace fretsim::coupling
     }
 
     /// The paper's implicit Euler law τ = (τ_n + k_t ds) / D, D = 1 + k_t |ds| / (μp),
-    /// clamped to μp (contact::bristle_step) with, if asked, ∂τ/∂ds
-    /// (not symmetric) and ∂τ/∂p (μ ∂τ/∂(μp)); `sliding_on`: the cell's
-    /// committed traction is near μp (the derivative at ds → 0 along τ_n).
+    /// clamped to μp (contact::bristle_step) with, if `by_slip` is given, ∂τ/∂ds
+    /// (not symmetric) and ∂τ/∂p (μ ∂τ/∂(μp)) into `by_pressure`; `sliding_on`:
+    /// the cell's committed traction is near μp (the derivative at ds → 0 along τ_n).
     Eigen::Vector2d bristle_law(const Eigen::Vector2d &start, const Eigen::Vector2d &slip, double mu_p,
-                                Eigen::Matrix2d *by_slip, Eigen::Vector2d *by_pressure, bool sliding_on = false) const
+                                Eigen::Matrix2d *by_slip, Eigen::Vector2d *by_pressure, bool sliding_on) const
     {
       const double k_t = settings.tangential_stiffness, mu = settings.friction_coefficient;
       const auto   next = contact::bristle_step(start.x(), start.y(), k_t, mu_p, slip.x(), slip.y());
@@ -234,7 +234,9 @@ namespace fretsim::coupling
           // along τ_n: the one-sided derivative that way (near zero along
           // τ_n), which only Newton's matrix sees. With the spring's k_t I
           // there instead, Newton failed in nine of ten steps on the paper's
-          // case (4 561 steps for a ball pass against 755).
+          // case (4 561 steps for a ball pass against 755). "At ds = 0" is
+          // within 1 % of the slip μp/k_t that saturates a fresh bristle,
+          // where the law has moved τ by ≲ 1 % of μp.
           if (sliding_on && k_t * slip_length <= 1e-2 * mu_p && start.norm() > 0.0)
             *by_slip -= k_t / mu_p * start * start.normalized().transpose();
           else if (slip_length > 0.0)
@@ -325,15 +327,11 @@ namespace fretsim::coupling
             const double mu_p = mu * p;
             Eigen::Vector2d traction, by_pressure = Eigen::Vector2d::Zero();
             Eigen::Matrix2d by_slip = Eigen::Matrix2d::Zero();
-            if (consistent && !committing)
-              { // the update's own law over the slip so far, and its derivative
+            if (committing || consistent)
+              { // the paper's implicit Euler law over the slip so far: the update
+                // after the accepted step, or the step itself (with its derivative)
                 traction = bristle_law(Eigen::Vector2d(tau_x[c], tau_y[c]), Eigen::Vector2d(ds_x, ds_y), mu_p,
                                        jacobian ? &by_slip : nullptr, &by_pressure, slipping[c] != 0);
-              }
-            else if (committing)
-              { // the paper's implicit Euler update over the accepted step
-                const auto next = contact::bristle_step(tau_x[c], tau_y[c], k_t, mu_p, ds_x, ds_y);
-                traction        = {next.x, next.y};
               }
             else if (slipping[c])
               { // sliding on: the traction keeps its ratio to the pressure (≥ 0.9 μ) and its direction

@@ -284,7 +284,6 @@ TEST(BearingScene, AHalfSpaceAtTheInterfaceSpreadsThePressureAndMakesTheLayerAPe
                                             "--set 'Interface/In-step bristle law=linearised'");
   EXPECT_NE(local.summary.find("\"in_step_bristle_law\": \"implicit Euler\""), std::string::npos);
   EXPECT_NE(linearised.summary.find("\"in_step_bristle_law\": \"linearised\""), std::string::npos);
-  EXPECT_LT(linearised.balance, 0.01);
   std::printf("peak pressure: layer alone %.4g MPa, with the half-space %.4g MPa (k_n x100: %.4g MPa); "
               "away from the axial edges %.4g, %.4g, %.4g MPa\n",
               layer.peak_pressure / 1e6, local.peak_pressure / 1e6, stiff.peak_pressure / 1e6,
@@ -295,7 +294,7 @@ TEST(BearingScene, AHalfSpaceAtTheInterfaceSpreadsThePressureAndMakesTheLayerAPe
               summary_number(loose.summary, "steps"), summary_number(local.summary, "steps"));
   EXPECT_NE(local.summary.find("\"local_compliance\": \"housing\""), std::string::npos);
   EXPECT_GT(summary_number(local.summary, "pressure_solves"), 0.0);
-  for (const auto *r : {&layer, &local, &stiff, &loose})
+  for (const auto *r : {&layer, &local, &stiff, &loose, &linearised})
     EXPECT_LT(r->balance, 0.01); // what the balls push ends in the housing
   // Around the circumference the half-space spreads the load (measured: the
   // mid-width peak 9.7 → 6.2 MPa); across the flat 18 mm width it raises the

@@ -1,6 +1,7 @@
 #include <fretsim/contact/convolution.h>
 
 #include <fftw3.h>
+#include <omp.h>
 
 #include <cmath>
 #include <algorithm>
@@ -71,7 +72,8 @@ namespace fretsim::contact
     /// AVX2, chosen at run time: the same operations on wider registers and
     /// no FMA contraction, so the same result to the last bit.
     __attribute__((target_clones("avx2", "default"))) void
-    sum_rows_real_kernel(const double *kernel_rows, const double *load, double *out, int ny, std::size_t values)
+    sum_rows_real_kernel(const double *kernel_rows, const double *load, double *out, int ny, std::size_t values,
+                         int first_row, int end_row)
     {
       // four doubles: one AVX or two SSE registers; loads need no alignment
       using Quad          = double __attribute__((vector_size(32)));
@@ -79,7 +81,7 @@ namespace fretsim::contact
       constexpr std::size_t block = 8;
       const std::size_t     whole = values - values % block;
       const auto row = [values](auto *rows, int r) { return rows + static_cast<std::size_t>(r) * values; };
-      for (int j = 0; j < ny; ++j)
+      for (int j = first_row; j < end_row; ++j)
         {
           double *row_out = row(out, j);
           for (std::size_t first = 0; first < whole; first += block)
@@ -107,10 +109,10 @@ namespace fretsim::contact
 
     /// Any other kernel: complex spectra, complex products.
     void sum_rows_complex_kernel(const double *kernel_rows, const double *load, double *out, int ny,
-                                 std::size_t values)
+                                 std::size_t values, int first_row, int end_row)
     {
       const auto row = [values](auto *rows, int r) { return rows + static_cast<std::size_t>(r) * values; };
-      for (int j = 0; j < ny; ++j)
+      for (int j = first_row; j < end_row; ++j)
         for (std::size_t n = 0; n < values; n += 2)
           {
             double re = 0.0, im = 0.0;
@@ -174,6 +176,15 @@ namespace fretsim::contact
 
     fftw_plan forward  = nullptr;
     fftw_plan backward = nullptr;
+    /// Rows along x: the rows in two parts [0, split_row) and [split_row, ny),
+    /// each with its own pair of plans, so that two threads share every
+    /// phase of a convolution (the ring interface's pressure solves call it
+    /// one after another from one thread, where the other waited). Every
+    /// row goes through the same plan whatever the thread count: the same
+    /// numbers on one thread as on two. 0: one part (a part's first row would
+    /// not be aligned as FFTW planned it, or too few rows).
+    int                      split_row = 0;
+    std::array<fftw_plan, 2> part_forward{}, part_backward{};
 
     struct Workspace
     {
@@ -213,6 +224,12 @@ namespace fretsim::contact
 
     void convolve(const Field &load, Field &result, const Workspace &w) const
     {
+      result.resize(grid.size());
+      if (direct_rows)
+        {
+          convolve_rows(load, result, w);
+          return;
+        }
       const int nx = grid.nx, ny = grid.ny;
       double   *real = w.real.get();
       std::fill(real, real + padded_size(), 0.0);
@@ -220,40 +237,87 @@ namespace fretsim::contact
         for (int i = 0; i < nx; ++i)
           real[static_cast<std::size_t>(j) * padded_nx + i] = load[grid.index(i, j)];
       fftw_execute_dft_r2c(forward, real, w.spectrum.get());
-      if (direct_rows)
-        sum_rows(w);
-      else
-        {
-          auto *values = reinterpret_cast<std::complex<double> *>(w.spectrum.get());
-          for (std::size_t n = 0; n < spectrum_size(); ++n)
-            values[n] *= kernel_spectrum[n];
-        }
-      fftw_execute_dft_c2r(backward, direct_rows ? w.result_spectrum.get() : w.spectrum.get(), real);
-      result.resize(grid.size());
+      auto *values = reinterpret_cast<std::complex<double> *>(w.spectrum.get());
+      for (std::size_t n = 0; n < spectrum_size(); ++n)
+        values[n] *= kernel_spectrum[n];
+      fftw_execute_dft_c2r(backward, w.spectrum.get(), real);
       for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i)
           result[grid.index(i, j)] = real[static_cast<std::size_t>(j) * padded_nx + i];
     }
 
-    /// w^(·, j) = Σ_jj K^(·, j - jj) u^(·, jj) over the row spectra.
-    void sum_rows(const Workspace &w) const
+    /// Rows along x, part by part: forward transforms, the sums over rows
+    /// (which need every row's transform), backward transforms. Within a
+    /// caller's own parallel region (the Jacobian's sensitivities) the
+    /// region below runs on that one thread.
+    void convolve_rows(const Field &load, Field &result, const Workspace &w) const
+    {
+      const int nx = grid.nx, ny = grid.ny, parts = split_row > 0 ? 2 : 1;
+      double   *real = w.real.get();
+      auto     *spectrum = w.spectrum.get(), *result_spectrum = w.result_spectrum.get();
+      const auto rows   = [&](int part) {
+        return parts == 1 ? std::pair<int, int>{0, ny}
+                          : (part == 0 ? std::pair<int, int>{0, split_row} : std::pair<int, int>{split_row, ny});
+      };
+      const auto plan = [&](const std::array<fftw_plan, 2> &of_part, fftw_plan whole, int part) {
+        return parts == 1 ? whole : of_part[part];
+      };
+#pragma omp parallel num_threads(parts) if (parts > 1 && omp_get_max_threads() > 1)
+      {
+#pragma omp for schedule(static)
+        for (int part = 0; part < parts; ++part)
+          {
+            const auto [first, end] = rows(part);
+            for (int j = first; j < end; ++j)
+              {
+                double *row = real + static_cast<std::size_t>(j) * padded_nx;
+                std::fill(row + nx, row + padded_nx, 0.0);
+                for (int i = 0; i < nx; ++i)
+                  row[i] = load[grid.index(i, j)];
+              }
+            fftw_execute_dft_r2c(plan(part_forward, forward, part), real + static_cast<std::size_t>(first) * padded_nx,
+                                 spectrum + static_cast<std::size_t>(first) * spectrum_nx);
+          }
+#pragma omp for schedule(static)
+        for (int part = 0; part < parts; ++part)
+          {
+            const auto [first, end] = rows(part);
+            sum_rows(w, first, end);
+          }
+#pragma omp for schedule(static)
+        for (int part = 0; part < parts; ++part)
+          {
+            const auto [first, end] = rows(part);
+            fftw_execute_dft_c2r(plan(part_backward, backward, part),
+                                 result_spectrum + static_cast<std::size_t>(first) * spectrum_nx,
+                                 real + static_cast<std::size_t>(first) * padded_nx);
+            for (int j = first; j < end; ++j)
+              for (int i = 0; i < nx; ++i)
+                result[grid.index(i, j)] = real[static_cast<std::size_t>(j) * padded_nx + i];
+          }
+      }
+    }
+
+    /// w^(·, j) = Σ_jj K^(·, j - jj) u^(·, jj) over the row spectra, for the
+    /// output rows j in [first_row, end_row).
+    void sum_rows(const Workspace &w, int first_row, int end_row) const
     {
       const auto *load = reinterpret_cast<const double *>(w.spectrum.get());
       auto       *out  = reinterpret_cast<double *>(w.result_spectrum.get());
+      const auto  values = 2 * static_cast<std::size_t>(spectrum_nx);
       if (real_rows)
-        sum_rows_real_kernel(real_row_spectrum.data(), load, out, grid.ny, 2 * static_cast<std::size_t>(spectrum_nx));
+        sum_rows_real_kernel(real_row_spectrum.data(), load, out, grid.ny, values, first_row, end_row);
       else
-        sum_rows_complex_kernel(reinterpret_cast<const double *>(kernel_spectrum.data()), load, out, grid.ny,
-                                2 * static_cast<std::size_t>(spectrum_nx));
+        sum_rows_complex_kernel(reinterpret_cast<const double *>(kernel_spectrum.data()), load, out, grid.ny, values,
+                                first_row, end_row);
     }
 
     ~Impl()
     {
       std::lock_guard<std::mutex> lock(fftw_planner_mutex());
-      if (forward)
-        fftw_destroy_plan(forward);
-      if (backward)
-        fftw_destroy_plan(backward);
+      for (fftw_plan plan : {forward, backward, part_forward[0], part_forward[1], part_backward[0], part_backward[1]})
+        if (plan)
+          fftw_destroy_plan(plan);
     }
   };
 
@@ -295,6 +359,33 @@ namespace fretsim::contact
                                               nullptr, 1, d.spectrum_nx, FFTW_ESTIMATE);
           d.backward = fftw_plan_many_dft_c2r(1, &d.padded_nx, grid.ny, planning.result_spectrum.get(), nullptr,
                                               1, d.spectrum_nx, real, nullptr, 1, d.padded_nx, FFTW_ESTIMATE);
+          // Executing a plan on other arrays needs them aligned as the
+          // planning ones (fftw_alignment_of): the second part's first rows.
+          const int  split   = grid.ny / 2;
+          const auto aligned = [](double *pointer, double *planned) {
+            return fftw_alignment_of(pointer) == fftw_alignment_of(planned);
+          };
+          const auto complex_row = [&](fftw_complex *rows, int r) {
+            return reinterpret_cast<double *>(rows + static_cast<std::size_t>(r) * d.spectrum_nx);
+          };
+          if (split >= 1 && aligned(real + static_cast<std::size_t>(split) * d.padded_nx, real) &&
+              aligned(complex_row(spectrum, split), complex_row(spectrum, 0)) &&
+              aligned(complex_row(planning.result_spectrum.get(), split),
+                      complex_row(planning.result_spectrum.get(), 0)))
+            {
+              d.split_row = split;
+              for (int part = 0; part < 2; ++part)
+                {
+                  const int count     = part == 0 ? split : grid.ny - split;
+                  d.part_forward[part] = fftw_plan_many_dft_r2c(1, &d.padded_nx, count, real, nullptr, 1, d.padded_nx,
+                                                                spectrum, nullptr, 1, d.spectrum_nx, FFTW_ESTIMATE);
+                  d.part_backward[part] =
+                    fftw_plan_many_dft_c2r(1, &d.padded_nx, count, planning.result_spectrum.get(), nullptr, 1,
+                                           d.spectrum_nx, real, nullptr, 1, d.padded_nx, FFTW_ESTIMATE);
+                  if (!d.part_forward[part] || !d.part_backward[part])
+                    throw std::runtime_error("SurfaceConvolution: FFTW could not create the plans");
+                }
+            }
         }
       else
         { // FFTW's row-major n0 x n1 with n1 fastest is our [2ny][padded_nx].

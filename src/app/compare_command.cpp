@@ -5,6 +5,7 @@
 #include "app/reduce_command.h"
 #include "app/ring_housing.h"
 #include "output/results_file.h"
+#include "scenes/bearing_scene.h"
 #include "scenes/figures.h"
 #include "scenes/scene.h"
 
@@ -788,20 +789,12 @@ namespace fretsim::app
     const std::string reduction  = p.get("Model/Reduction configuration");
     if (reduction.empty())
       p.reject("Model/Reduction configuration", "is empty; name the ring_housing configuration of the reduced model");
-    // A reduction configuration relative to the scene file, its model file
-    // by default results/<configuration name>-model.h5, as the scene
-    // resolves them (bearing_scene.cpp).
-    const auto resolve = [&](const std::string &config_parameter, const std::string &file_parameter,
-                             std::string &config, std::string &file) {
-      config = (std::filesystem::path(config_file).parent_path() / p.get(config_parameter)).lexically_normal().string();
-      if (!std::filesystem::is_regular_file(config))
-        p.reject(config_parameter, "names '" + config + "', which does not exist");
-      file = p.get(file_parameter);
-      if (file.empty())
-        file = (std::filesystem::path("results") / (std::filesystem::path(config).stem().string() + "-model.h5"))
-                 .string();
-    };
-    resolve("Model/Reduction configuration", "Model/Model file", in.reduction_config, in.model_file);
+    // The reduction configurations and model files as the scene resolves
+    // them (with the ring's basis sizes the scene may set over its own).
+    const scenes::ModelSource ring = scenes::ring_model_source(p);
+    in.reduction_config            = ring.config;
+    in.model_file                  = ring.file;
+    in.model_overrides             = ring.overrides;
     in.results_file = p.get("Compare/Results file");
     if (in.results_file.empty())
       in.results_file =
@@ -816,8 +809,11 @@ namespace fretsim::app
     in.normal_stiffness    = p.get_double("Interface/Normal stiffness");
     in.radial_interference = p.get_double("Interface/Radial interference");
     if (!p.get("Model/Housing reduction configuration").empty())
-      resolve("Model/Housing reduction configuration", "Model/Housing model file", in.housing_reduction_config,
-              in.housing_model_file);
+      {
+        const scenes::ModelSource housing = scenes::housing_model_source(p);
+        in.housing_reduction_config       = housing.config;
+        in.housing_model_file             = housing.file;
+      }
     return in;
   }
 
@@ -851,7 +847,7 @@ namespace fretsim::app
       {
         // The hash `fretsim reduce` writes for this configuration: a model made
         // from other inputs (geometry, mesh, material, mode counts) is refused.
-        model = reduction::read_model_file(in.model_file, reduce_input_hash(in.reduction_config));
+        model = reduction::read_model_file(in.model_file, reduce_input_hash(in.reduction_config, in.model_overrides));
       }
     catch (const reduction::ModelFileError &error)
       {

@@ -63,6 +63,9 @@ namespace fretsim::app
     std::string  source;           ///< the file the inputs come from, for messages
     std::string  reduction_config; ///< ring_housing configuration of the model
     std::string  model_file;       ///< reduced model (.h5) made from it
+    /// Reduction parameters over the configuration's that the model was made
+    /// with (the scene's Model/Characteristic constraint modes, ...): its hash.
+    std::vector<std::pair<std::string, std::string>> model_overrides;
     /// The co-simulation's results.h5. A run made with another model of the
     /// same ring (other n_cc or m, same interface grid) is accepted: its loads
     /// and pressures are compared, its own modal coordinates are not. A run

@@ -49,13 +49,6 @@ namespace fretsim::scenes
       return spec;
     }
 
-    /// Where a body's reduced model comes from: its reduction configuration,
-    /// the model file, and the fingerprint of the configuration's inputs.
-    struct ModelSource
-    {
-      std::string config, file, expected_hash;
-      std::string file_parameter; ///< the scene parameter that names the file
-    };
 
     /// Reads the model file, or builds it with `fretsim reduce` when it is
     /// missing or was made from other inputs (if allowed).
@@ -71,11 +64,15 @@ namespace fretsim::scenes
           if (!build)
             scene.reject(source.file_parameter, error.what());
           std::cerr << "bearing_housing: " << error.what() << "\n  building it with `fretsim reduce "
-                    << source.config << " -o " << source.file << "` (about 2 minutes for the 6208 ring or housing)\n";
+                    << source.config << " -o " << source.file;
+          for (const auto &[name, value] : source.overrides)
+            std::cerr << " --set '" << name << "=" << value << "'";
+          std::cerr << "` (about 2 minutes for the 6208 ring or housing)\n";
           app::RingHousingCommandOptions reduce;
           reduce.config_file = source.config;
           reduce.output      = source.file;
-          reduce.overrides   = {{"Reduction/Compare with full FE", "false"}};
+          reduce.overrides   = source.overrides;
+          reduce.overrides.emplace_back("Reduction/Compare with full FE", "false");
           reduce.progress    = progress;
           reduce.plots       = false;
           app::run_reduce_command(reduce, std::cerr);
@@ -84,16 +81,17 @@ namespace fretsim::scenes
         }
     }
 
-    /// The configuration named by `config_parameter` (relative to the
-    /// scene's file) and its model file (`file_parameter`; empty: results/
-    /// <configuration name>-model.h5, where `fretsim reduce` writes it).
+  } // namespace
+
+  namespace
+  {
     ModelSource model_source(const app::SceneParameters &par, const std::string &config_parameter,
                              const std::string &file_parameter)
     {
       namespace fs = std::filesystem;
       ModelSource source;
       source.config = (fs::path(par.file()).parent_path() / par.get(config_parameter)).lexically_normal().string();
-      if (!fs::exists(source.config))
+      if (!fs::is_regular_file(source.config))
         par.reject(config_parameter, "no file '" + source.config + "'");
       source.file = par.get(file_parameter);
       if (source.file.empty())
@@ -102,6 +100,39 @@ namespace fretsim::scenes
       return source;
     }
   } // namespace
+
+  ModelSource ring_model_source(const app::SceneParameters &par)
+  {
+    namespace fs       = std::filesystem;
+    ModelSource source = model_source(par, "Model/Reduction configuration", "Model/Model file");
+    // The basis sizes over the configuration's: a study of D_max against the
+    // ring's basis is one `--set` per run, each model in its own file.
+    std::string suffix;
+    for (const auto &[parameter, reduction, tag] :
+         {std::tuple<const char *, const char *, const char *>{"Model/Fixed-interface modes",
+                                                              "Reduction/Fixed-interface modes", "-m"},
+          {"Model/Characteristic constraint modes", "Reduction/Characteristic constraint modes", "-ncc"}})
+      if (const long count = par.get_integer(parameter); count > 0)
+        {
+          source.overrides.emplace_back(reduction, std::to_string(count));
+          suffix += tag + std::to_string(count);
+        }
+    if (!suffix.empty())
+      { // model.h5 -> model-ncc40.h5, results/ring-model.h5 -> results/ring-ncc40-model.h5
+        const fs::path file = source.file;
+        std::string    stem = file.stem().string();
+        const bool     named_default = par.get("Model/Model file").empty();
+        stem = named_default ? stem.substr(0, stem.size() - std::string("-model").size()) + suffix + "-model"
+                             : stem + suffix;
+        source.file = (file.parent_path() / (stem + file.extension().string())).string();
+      }
+    return source;
+  }
+
+  ModelSource housing_model_source(const app::SceneParameters &par)
+  {
+    return model_source(par, "Model/Housing reduction configuration", "Model/Housing model file");
+  }
 
   struct BearingHousingScene::Settings
   {
@@ -131,6 +162,14 @@ namespace fretsim::scenes
       text("Model/Model file", "",
            "The reduced model file; empty: results/<reduction configuration name>-model.h5 (where `fretsim reduce` "
            "writes it) [-]."),
+      Spec::integer_range("Model/Characteristic constraint modes", "0",
+                          "n_cc of the ring's model over its reduction configuration's (0: the configuration's): "
+                          "the ring's interface shapes, which set how sharply the pressure under a ball is resolved "
+                          "and D_max with it (README). The model is built on first use into its own file [-].",
+                          0, 5000),
+      Spec::integer_range("Model/Fixed-interface modes", "0",
+                          "m of the ring's model over its reduction configuration's (0: the configuration's) [-].", 0,
+                          5000),
       text("Model/Housing reduction configuration", "",
            "The ring_housing configuration (Mesh/Bodies = housing, Reduction/Coupling surfaces = housing_bore) of a "
            "flexible housing's Craig-Bampton model, relative to this file's directory; the same Ring/Outer radius, "
@@ -259,19 +298,19 @@ namespace fretsim::scenes
     auto      &s    = *settings;
     const auto &par = parameters;
     namespace fs    = std::filesystem;
-    s.ring_model  = model_source(par, "Model/Reduction configuration", "Model/Model file");
+    s.ring_model  = ring_model_source(par);
     s.build_model = par.get_bool("Model/Build if missing");
 
     // The ring's geometry and material come from the reduction configuration.
     const auto ring_parameters = app::read_ring_housing_parameters(s.ring_model.config, {});
     const auto body            = app::read_ring_housing_request(ring_parameters);
-    s.ring_model.expected_hash = app::reduce_input_hash(s.ring_model.config);
+    s.ring_model.expected_hash = app::reduce_input_hash(s.ring_model.config, s.ring_model.overrides);
     if (!body.ring.has_groove())
       par.reject("Model/Reduction configuration", "the ring in '" + s.ring_model.config +
                                                     "' has no raceway groove; a ball bearing needs one");
     if (!par.get("Model/Housing reduction configuration").empty())
       {
-        s.housing_model = model_source(par, "Model/Housing reduction configuration", "Model/Housing model file");
+        s.housing_model = housing_model_source(par);
         const auto housing = app::read_ring_housing_request(app::read_ring_housing_parameters(s.housing_model->config, {}));
         if (housing.bodies != "housing")
           par.reject("Model/Housing reduction configuration",

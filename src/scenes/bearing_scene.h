@@ -8,9 +8,31 @@
 #include "scenes/scene.h"
 
 #include <memory>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace fretsim::scenes
 {
+  /// Where a bearing_housing scene's reduced model comes from, as `run` and
+  /// `compare` resolve it: the reduction configuration (relative to the
+  /// scene's file), the model file (empty parameter: results/<configuration
+  /// name>-model.h5, where `fretsim reduce` writes it; the ring's with basis
+  /// sizes the scene sets gets them in its name, results/<name>-m<m>-ncc<n_cc>
+  /// -model.h5 or <file>-m<m>-ncc<n_cc>.h5, so that each model keeps its file), and
+  /// the reduction parameters the scene sets over the configuration's
+  /// (Model/Fixed-interface modes, Model/Characteristic constraint modes: the
+  /// ring's only). Throws app::InputError if the configuration is missing.
+  struct ModelSource
+  {
+    std::string config, file;
+    std::string file_parameter; ///< the scene parameter that names the file
+    std::vector<std::pair<std::string, std::string>> overrides; ///< Reduction/... = value
+    std::string expected_hash; ///< the model file's input hash (app::reduce_input_hash), set by the scene
+  };
+  ModelSource ring_model_source(const app::SceneParameters &scene);
+  ModelSource housing_model_source(const app::SceneParameters &scene);
+
   class BearingHousingScene : public Scene
   {
   public:

@@ -4,6 +4,7 @@
 // housing takes what the balls push; the results file has the documented
 // layout; a second run reuses the model; bad input exits with 2 naming the
 // parameter and writing nothing; a run that fails leaves a readable file.
+#include "app/compare_command.h"
 #include "app/test_files.h"
 
 #include "output/results_file.h"
@@ -122,6 +123,29 @@ TEST(BearingScene, RunsEndToEndAndTheInterfaceSeesTheBallPass)
                                  " --set 'Loading/Ball pass periods=0.25'");
   ASSERT_EQ(again.exit_code, 0) << again.output;
   EXPECT_EQ(again.output.find("building it"), std::string::npos) << again.output;
+
+  // The ring's interface basis set by the scene (the study of D_max against
+  // n_cc, README): a model of its own, built on first use into its own file,
+  // with n_cc + m coordinates; the configuration's model stays, and compare
+  // resolves the same file and the same reduction parameters.
+  const std::string basis = " --set 'Model/Characteristic constraint modes=20'";
+  const auto        other = run_program("run " + (dir / "scene.prm").string() + " -q --no-plots -o " +
+                                        (dir / "out3").string() + " --set 'Loading/Ball pass periods=0.25'" + basis);
+  ASSERT_EQ(other.exit_code, 0) << other.output;
+  EXPECT_NE(other.output.find("--set 'Reduction/Characteristic constraint modes=20'"), std::string::npos)
+    << other.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "model-ncc20.h5"));
+  EXPECT_EQ(summary_number(read_text(dir / "out3" / "summary.json"), "reduced_coordinates"), 20.0 + 10.0);
+  const auto original = run_program("run " + (dir / "scene.prm").string() + " -q --no-plots -o " +
+                                    (dir / "out4").string() + " --set 'Loading/Ball pass periods=0.25'");
+  ASSERT_EQ(original.exit_code, 0) << original.output;
+  EXPECT_EQ(original.output.find("building it"), std::string::npos) << original.output;
+  EXPECT_EQ(summary_number(read_text(dir / "out4" / "summary.json"), "reduced_coordinates"), 30.0 + 10.0);
+  const auto compare =
+    fretsim::app::read_compare_inputs((dir / "scene.prm").string(), {{"Model/Characteristic constraint modes", "20"}});
+  EXPECT_EQ(compare.model_file, (dir / "model-ncc20.h5").string());
+  EXPECT_EQ(compare.model_overrides,
+            (std::vector<std::pair<std::string, std::string>>{{"Reduction/Characteristic constraint modes", "20"}}));
 }
 
 TEST(BearingScene, AFlexibleHousingTakesItsShareAndAStiffOneIsTheRigidHousing)

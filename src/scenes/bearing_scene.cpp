@@ -49,7 +49,6 @@ namespace fretsim::scenes
       return spec;
     }
 
-
     /// Reads the model file, or builds it with `fretsim reduce` when it is
     /// missing or was made from other inputs (if allowed).
     reduction::ReducedModel load_or_build(const ModelSource &source, bool build, bool progress,
@@ -81,10 +80,9 @@ namespace fretsim::scenes
         }
     }
 
-  } // namespace
-
-  namespace
-  {
+    /// The configuration named by `config_parameter` (relative to the
+    /// scene's file) and its model file (`file_parameter`; empty: results/
+    /// <configuration name>-model.h5, where `fretsim reduce` writes it).
     ModelSource model_source(const app::SceneParameters &par, const std::string &config_parameter,
                              const std::string &file_parameter)
     {

@@ -473,7 +473,65 @@ namespace fretsim::app
       double       full_max_u_r_balls = 0.0; ///< of the balls alone: over full_max_u_r, how much the parts cancel
       Errors       error, run;
       Errors       error_balls, error_tractions; ///< the balls alone, the interface tractions alone
+      /// u_r on the grid with the whole model's residual flexibility added
+      /// (ResidualFlexibility): the whole load, and the balls alone.
+      double       error_u_r_residual = not_measured, error_u_r_residual_balls = not_measured;
       WinklerComparison winkler;
+    };
+
+    /// The part of the ring's static compliance the model's basis misses —
+    /// MacNeal's residual flexibility R = K⁻¹ − T K_r⁻¹ Tᵀ, both with inertia
+    /// relief — as u_r on the interface grid: per unit force of each traction
+    /// component on each cell of the grid's first column, and per unit ball
+    /// load at that column's angle. On the axisymmetric ring R is taken as
+    /// circulant in θ (exact for the geometry; the mesh's 128 divisions are
+    /// not the grid's): a load on column i0 acts as the first column's,
+    /// shifted by i0, and a ball between columns as the table interpolated.
+    /// A diagnostic of what the README's next step for the basis would add:
+    /// reduced + R against the full FE.
+    struct ResidualFlexibility
+    {
+      int                              nx = 0, ny = 0;
+      double                           cell_area = 0.0, column_angle = 0.0, angle_step = 0.0;
+      std::array<std::vector<double>, 3> traction; ///< [component][source row j][cell] u_r per N
+      std::vector<double>              ball;     ///< [cell] u_r per N of a ball at column_angle
+
+      /// R applied to an instant's tractions and ball loads: u_r per cell [m].
+      std::vector<double> apply(const Instant &instant) const
+      {
+        const std::size_t   cells = static_cast<std::size_t>(nx) * ny;
+        std::vector<double> u(cells, 0.0);
+        const std::array<const std::vector<double> *, 3> loads{&instant.tractions.pressure, &instant.tractions.shear_x,
+                                                               &instant.tractions.shear_y};
+        for (int k = 0; k < 3; ++k)
+          for (int j = 0; j < ny; ++j)
+            for (int i0 = 0; i0 < nx; ++i0)
+              {
+                // the table is per unit force along the traction: pressure pushes in
+                const double force = (*loads[k])[static_cast<std::size_t>(j * nx + i0)] * cell_area;
+                if (force == 0.0)
+                  continue;
+                const double *column = traction[k].data() + static_cast<std::size_t>(j) * cells;
+                for (int jj = 0; jj < ny; ++jj)
+                  for (int i = 0; i < nx; ++i)
+                    u[static_cast<std::size_t>(jj * nx + i)] +=
+                      force * column[static_cast<std::size_t>(jj * nx + (i - i0 + nx) % nx)];
+              }
+        for (std::size_t b = 0; b < instant.ball_angles.size(); ++b)
+          {
+            const double shift = std::remainder(instant.ball_angles[b] - column_angle, 2.0 * M_PI) / angle_step;
+            for (int jj = 0; jj < ny; ++jj)
+              for (int i = 0; i < nx; ++i)
+                {
+                  const double at = i - shift, lower = std::floor(at), fraction = at - lower;
+                  const int    k0 = ((static_cast<int>(lower) % nx) + nx) % nx, k1 = (k0 + 1) % nx;
+                  u[static_cast<std::size_t>(jj * nx + i)] +=
+                    instant.ball_loads[b] * ((1.0 - fraction) * ball[static_cast<std::size_t>(jj * nx + k0)] +
+                                             fraction * ball[static_cast<std::size_t>(jj * nx + k1)]);
+                }
+          }
+        return u;
+      }
     };
 
     /// A full-FE transient of the ring on the run's Winkler foundation under
@@ -707,7 +765,8 @@ namespace fretsim::app
              "winkler_reduced_peak_pressure_Pa,winkler_error_pressure_max,winkler_error_pressure_l2,"
              "winkler_full_contact_fraction,winkler_reduced_contact_fraction,winkler_full_iterations,"
              "winkler_reduced_iterations,winkler_full_s,winkler_reduced_s,winkler_run_error_pressure_max,"
-             "winkler_run_error_pressure_l2,winkler_run_vs_reduced_error_pressure_max\n";
+             "winkler_run_error_pressure_l2,winkler_run_vs_reduced_error_pressure_max,"
+             "error_u_r_with_residual,error_u_r_balls_with_residual\n";
       csv << std::setprecision(10);
       for (const Row &r : rows)
         {
@@ -729,7 +788,8 @@ namespace fretsim::app
           for (const double v : {w.normal_stiffness, w.radial_interference, w.full_peak, w.reduced_peak, w.error_max,
                                  w.error_l2, w.full_contact, w.reduced_contact, w.full_iterations,
                                  w.reduced_iterations, w.full_seconds, w.reduced_seconds, w.run_error_max,
-                                 w.run_error_l2, w.run_vs_reduced_max})
+                                 w.run_error_l2, w.run_vs_reduced_max, r.error_u_r_residual,
+                                 r.error_u_r_residual_balls})
             csv << ',' << v;
           csv << '\n';
         }
@@ -1014,6 +1074,52 @@ namespace fretsim::app
                                           std::to_string(view.constraint));
         }
 
+      // The whole model's residual flexibility, column by column: a unit
+      // force of each traction component on each cell of the grid's first
+      // column, and a unit ball at that column's angle, full FE and reduced.
+      ResidualFlexibility residual;
+      double              residual_seconds = 0.0;
+      const auto          whole = std::find_if(views.begin(), views.end(), [](const Truncation &v) { return v.whole_model; });
+      if (whole != views.end())
+        {
+          const auto residual_start = Clock::now();
+          const double area = grid.cell_area();
+          residual.nx = grid.nx;
+          residual.ny = grid.ny;
+          residual.cell_area    = area;
+          residual.angle_step   = grid.hx / grid.radius;
+          residual.column_angle = grid.x(0) / grid.radius;
+          Instant unit;
+          for (auto *field : {&unit.tractions.pressure, &unit.tractions.shear_x, &unit.tractions.shear_y})
+            field->assign(grid.size(), 0.0);
+          const auto residual_u_r = [&](const Instant &part) {
+            fem::StaticLoad load;
+            load.grid_tractions.push_back({&map, &part.tractions});
+            for (std::size_t b = 0; b < part.ball_angles.size(); ++b)
+              load.ball_loads.push_back(raceway_ball(part.ball_angles[b], part.ball_loads[b]));
+            std::vector<double> u_r = map.interpolate(solver.solve(load)).u_r;
+            const Recovered     reduced = reduced_static(*whole, part, area);
+            for (std::size_t c = 0; c < u_r.size(); ++c)
+              u_r[c] -= reduced.displacement[3 * c];
+            return u_r;
+          };
+          for (int k = 0; k < 3; ++k)
+            {
+              auto &field = k == 0 ? unit.tractions.pressure : k == 1 ? unit.tractions.shear_x : unit.tractions.shear_y;
+              for (int j = 0; j < grid.ny; ++j)
+                {
+                  field[static_cast<std::size_t>(j * grid.nx)] = 1.0 / area; // 1 N on the cell
+                  const std::vector<double> column = residual_u_r(unit);
+                  residual.traction[k].insert(residual.traction[k].end(), column.begin(), column.end());
+                  field[static_cast<std::size_t>(j * grid.nx)] = 0.0;
+                }
+            }
+          unit.ball_angles = {residual.column_angle};
+          unit.ball_loads  = {1.0};
+          residual.ball    = residual_u_r(unit);
+          residual_seconds = seconds_since(residual_start);
+        }
+
       if (root)
         {
           out << "model:        " << in.model_file << ": " << matrices.size() << " coordinates (" << matrices.n_constraint
@@ -1034,6 +1140,10 @@ namespace fretsim::app
           for (const auto &i : instants)
             out << ' ' << i.snapshot;
           out << "\n";
+          if (!residual.ball.empty())
+            out << "residual:     R = K^-1 - T K_r^-1 T^T on the grid from " << 3 * grid.ny + 1
+                << " full and reduced solves (unit loads on the grid's first column, a unit ball) in " << std::fixed
+                << std::setprecision(2) << residual_seconds << " s\n" << std::defaultfloat;
           if (run.other_model)
             out << "note:         the run used a model of " << run.n_coordinates << " coordinates, not this one's "
                 << matrices.size() << ": its loads and pressures are compared, its own q is not\n";
@@ -1052,10 +1162,12 @@ namespace fretsim::app
               << " energy norm of the Ritz error; 'run' = the run's own dynamic q, rigid motion removed, against the\n"
               << " full static solution; both models balance the loads' resultant F_net by rigid-body inertia;\n"
               << " 'race far': raceway points more than " << std::setprecision(3) << local_zone * 180.0 / M_PI
-              << " deg from every ball, outside the footprint's local stress)\n" << std::defaultfloat
+              << " deg from every ball, outside the footprint's local stress;\n"
+              << " '+R': u_r with the basis's residual flexibility added, R = K^-1 - T K_r^-1 T^T taken circulant in"
+                 " theta)\n" << std::defaultfloat
               << "  inst  snapshot      t [s]  balls   sum Q [N]  p_max [MPa]  F_net [N]  max u_r full/reduced [um]    u_r err  u_theta err    u_z err"
                  "  stress grid  stress race    race far   approach     energy  run u_r err  run stress"
-                 "  u_r: balls alone  tractions alone  full [s]  reduced [ms]\n";
+                 "  u_r: balls alone  tractions alone  u_r +R   balls +R  full [s]  reduced [ms]\n";
         }
 
       for (std::size_t i = 0; i < instants.size(); ++i)
@@ -1222,6 +1334,18 @@ namespace fretsim::app
               row.error               = measure(reduced, full, true);
               row.error_balls         = measure(reduced_static(view, balls_only, area), full_balls, true);
               row.error_tractions     = measure(reduced_static(view, tractions_only, area), full_tractions, true);
+              if (view.whole_model && !residual.ball.empty())
+                {
+                  const auto with_residual = [&](const Recovered &r, const Instant &part, const FullSolution &f) {
+                    std::vector<double> u_r = residual.apply(part);
+                    for (std::size_t c = 0; c < u_r.size(); ++c)
+                      u_r[c] += r.displacement[3 * c];
+                    return relative_max_error(u_r, 0, 1, f.displacement[0]);
+                  };
+                  row.error_u_r_residual       = with_residual(reduced, instant, full);
+                  row.error_u_r_residual_balls = with_residual(reduced_static(view, balls_only, area), balls_only,
+                                                               full_balls);
+                }
               {
                 auto             &w = row.winkler;
                 const auto       *reduced_p = reduced_winkler[static_cast<std::size_t>(&view - views.data())].get();
@@ -1268,7 +1392,8 @@ namespace fretsim::app
                     << "   " << sci(row.error.grid_stress) << "   " << sci(row.error.raceway_stress) << "  "
                     << sci(row.error.raceway_stress_far) << ' ' << sci(row.error.approach) << ' '
                     << sci(row.error.energy) << "   " << sci(row.run.u_r) << "  " << sci(row.run.grid_stress)
-                    << ' ' << sci(row.error_balls.u_r) << "      " << sci(row.error_tractions.u_r) << std::fixed
+                    << ' ' << sci(row.error_balls.u_r) << "      " << sci(row.error_tractions.u_r) << "    "
+                    << sci(row.error_u_r_residual) << ' ' << sci(row.error_u_r_residual_balls) << std::fixed
                     << std::setprecision(3) << std::setw(10) << full_setup + full.solve_seconds << std::setw(14)
                     << 1e3 * reduced.seconds << "\n"
                     << std::defaultfloat;

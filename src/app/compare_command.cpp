@@ -484,9 +484,10 @@ namespace fretsim::app
     /// relief — as u_r on the interface grid: per unit force of each traction
     /// component on each cell of the grid's first column, and per unit ball
     /// load at that column's angle. On the axisymmetric ring R is taken as
-    /// circulant in θ (exact for the geometry; the mesh's 128 divisions are
-    /// not the grid's): a load on column i0 acts as the first column's,
-    /// shifted by i0, and a ball between columns as the table interpolated.
+    /// circulant in θ — the geometry's symmetry; the mesh's divisions need
+    /// not be the grid's columns, and that difference is the approximation's
+    /// error: a load on column i0 acts as the first column's, shifted by i0,
+    /// and a ball between columns as the table interpolated.
     /// A diagnostic of what the README's next step for the basis would add:
     /// reduced + R against the full FE.
     struct ResidualFlexibility

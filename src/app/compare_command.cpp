@@ -1038,6 +1038,16 @@ namespace fretsim::app
         ball.force                     = force;
         return ball;
       };
+      // An instant's loads on the full FE ring: its tractions on the grid and
+      // its loaded balls.
+      const auto static_load = [&](const Instant &part) {
+        fem::StaticLoad load;
+        load.grid_tractions.push_back({&map, &part.tractions});
+        for (std::size_t b = 0; b < part.ball_angles.size(); ++b)
+          if (part.ball_loads[b] > 0.0)
+            load.ball_loads.push_back(raceway_ball(part.ball_angles[b], part.ball_loads[b]));
+        return load;
+      };
       const fem::StressSampler  grid_sampler = fem::StressSampler::on_grid(fe, grid);
       std::unique_ptr<fem::StressSampler> raceway_sampler;
       if (!raceway_xyz.empty())
@@ -1094,11 +1104,7 @@ namespace fretsim::app
           for (auto *field : {&unit.tractions.pressure, &unit.tractions.shear_x, &unit.tractions.shear_y})
             field->assign(grid.size(), 0.0);
           const auto residual_u_r = [&](const Instant &part) {
-            fem::StaticLoad load;
-            load.grid_tractions.push_back({&map, &part.tractions});
-            for (std::size_t b = 0; b < part.ball_angles.size(); ++b)
-              load.ball_loads.push_back(raceway_ball(part.ball_angles[b], part.ball_loads[b]));
-            std::vector<double> u_r = map.interpolate(solver.solve(load)).u_r;
+            std::vector<double> u_r = map.interpolate(solver.solve(static_load(part))).u_r;
             const Recovered     reduced = reduced_static(*whole, part, area);
             for (std::size_t c = 0; c < u_r.size(); ++c)
               u_r[c] -= reduced.displacement[3 * c];
@@ -1197,16 +1203,8 @@ namespace fretsim::app
           const double area = grid.cell_area();
           double       net_force = 0.0;
           const auto   full_solution = [&](const Instant &part) {
-            fem::StaticLoad load;
-            load.grid_tractions.push_back({&map, &part.tractions});
-            for (std::size_t b = 0; b < unit_balls.size(); ++b)
-              if (part.ball_loads[b] > 0.0)
-                {
-                  load.ball_loads.push_back(unit_balls[b]);
-                  load.ball_loads.back().force = part.ball_loads[b];
-                }
             FullSolution                   full;
-            const fem::DisplacementField u = solver.solve(load);
+            const fem::DisplacementField u = solver.solve(static_load(part));
             full.solve_seconds             = solver.last_load_seconds() + solver.last_solve_seconds();
             const fem::Vector3 resultant   = solver.last_net_force();
             net_force = std::sqrt(resultant[0] * resultant[0] + resultant[1] * resultant[1] + resultant[2] * resultant[2]);

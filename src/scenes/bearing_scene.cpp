@@ -124,12 +124,15 @@ namespace fretsim::scenes
                              : stem + suffix;
         source.file = (file.parent_path() / (stem + file.extension().string())).string();
       }
+    source.expected_hash = app::reduce_input_hash(source.config, source.overrides);
     return source;
   }
 
   ModelSource housing_model_source(const app::SceneParameters &par)
   {
-    return model_source(par, "Model/Housing reduction configuration", "Model/Housing model file");
+    ModelSource source   = model_source(par, "Model/Housing reduction configuration", "Model/Housing model file");
+    source.expected_hash = app::reduce_input_hash(source.config);
+    return source;
   }
 
   struct BearingHousingScene::Settings
@@ -302,7 +305,6 @@ namespace fretsim::scenes
     // The ring's geometry and material come from the reduction configuration.
     const auto ring_parameters = app::read_ring_housing_parameters(s.ring_model.config, {});
     const auto body            = app::read_ring_housing_request(ring_parameters);
-    s.ring_model.expected_hash = app::reduce_input_hash(s.ring_model.config, s.ring_model.overrides);
     if (!body.ring.has_groove())
       par.reject("Model/Reduction configuration", "the ring in '" + s.ring_model.config +
                                                     "' has no raceway groove; a ball bearing needs one");
@@ -319,7 +321,6 @@ namespace fretsim::scenes
                      "the housing bore in '" + s.housing_model->config +
                        "' must have the ring's outer radius and width (Ring/Outer radius, Ring/Width): the fit is "
                        "set by Interface/Radial interference");
-        s.housing_model->expected_hash = app::reduce_input_hash(s.housing_model->config);
       }
 
     auto &b                   = s.run.bearing;

@@ -22,13 +22,14 @@ namespace fretsim::scenes
   /// -model.h5 or <file>-m<m>-ncc<n_cc>.h5, so that each model keeps its file), and
   /// the reduction parameters the scene sets over the configuration's
   /// (Model/Fixed-interface modes, Model/Characteristic constraint modes: the
-  /// ring's only). Throws app::InputError if the configuration is missing.
+  /// ring's only). Throws app::InputError if the configuration is missing or
+  /// cannot be read.
   struct ModelSource
   {
     std::string config, file;
     std::string file_parameter; ///< the scene parameter that names the file
     std::vector<std::pair<std::string, std::string>> overrides; ///< Reduction/... = value
-    std::string expected_hash; ///< the model file's input hash (app::reduce_input_hash), set by the scene
+    std::string expected_hash; ///< the model file's input hash (app::reduce_input_hash of config and overrides)
   };
   ModelSource ring_model_source(const app::SceneParameters &scene);
   ModelSource housing_model_source(const app::SceneParameters &scene);

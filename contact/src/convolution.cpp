@@ -60,9 +60,19 @@ namespace fretsim::contact
     /// in the corner sum.
     double love_f1(double x, double y) { return x_asinh_y_over_x(x, y) + x_asinh_y_over_x(y, x); }
 
+    /// Which kernel row couples field row j to load row jj: j·field + jj·load
+    /// + offset. Translation invariant in y, the row of the offset dj = j - jj
+    /// (field 1, load -1, offset ny - 1: 2ny - 1 rows); a row-pair kernel,
+    /// the pair itself (field ny, load 1, offset 0: ny² rows).
+    struct KernelRows
+    {
+      int field = 1, load = -1, offset = 0;
+      int operator()(int j, int jj) const { return j * field + jj * load + offset; }
+    };
+
     /// The row sums of SurfaceConvolution's rows_along_x, on interleaved
-    /// (re, im) spectra of `values` doubles per row: out_j = Σ_jj K_(j-jj) u_jj
-    /// over jj < ny, K_d the row (d + ny - 1) of `kernel_rows`.
+    /// (re, im) spectra of `values` doubles per row: out_j = Σ_jj K_(j,jj) u_jj
+    /// over jj < ny, K_(j,jj) the row pair(j, jj) of `kernel_rows`.
     ///
     /// A kernel even in x (Love's: the ring interface's hot path) has real
     /// spectra, stored with each value twice so that a plain product scales
@@ -72,8 +82,8 @@ namespace fretsim::contact
     /// AVX2, chosen at run time: the same operations on wider registers and
     /// no FMA contraction, so the same result to the last bit.
     __attribute__((target_clones("avx2", "default"))) void
-    sum_rows_real_kernel(const double *kernel_rows, const double *load, double *out, int ny, std::size_t values,
-                         int first_row, int end_row)
+    sum_rows_real_kernel(const double *kernel_rows, const KernelRows &pair, const double *load, double *out, int ny,
+                         std::size_t values, int first_row, int end_row)
     {
       // four doubles: one AVX or two SSE registers; loads need no alignment
       using Quad          = double __attribute__((vector_size(32)));
@@ -89,7 +99,7 @@ namespace fretsim::contact
               Quad low = {}, high = {};
               for (int jj = 0; jj < ny; ++jj)
                 {
-                  const auto *k = reinterpret_cast<const UnalignedQuad *>(row(kernel_rows, j - jj + ny - 1) + first);
+                  const auto *k = reinterpret_cast<const UnalignedQuad *>(row(kernel_rows, pair(j, jj)) + first);
                   const auto *u = reinterpret_cast<const UnalignedQuad *>(row(load, jj) + first);
                   low += Quad(k[0]) * Quad(u[0]);
                   high += Quad(k[1]) * Quad(u[1]);
@@ -101,15 +111,15 @@ namespace fretsim::contact
             {
               double sum = 0.0;
               for (int jj = 0; jj < ny; ++jj)
-                sum += row(kernel_rows, j - jj + ny - 1)[n] * row(load, jj)[n];
+                sum += row(kernel_rows, pair(j, jj))[n] * row(load, jj)[n];
               row_out[n] = sum;
             }
         }
     }
 
     /// Any other kernel: complex spectra, complex products.
-    void sum_rows_complex_kernel(const double *kernel_rows, const double *load, double *out, int ny,
-                                 std::size_t values, int first_row, int end_row)
+    void sum_rows_complex_kernel(const double *kernel_rows, const KernelRows &pair, const double *load, double *out,
+                                 int ny, std::size_t values, int first_row, int end_row)
     {
       const auto row = [values](auto *rows, int r) { return rows + static_cast<std::size_t>(r) * values; };
       for (int j = first_row; j < end_row; ++j)
@@ -118,7 +128,7 @@ namespace fretsim::contact
             double re = 0.0, im = 0.0;
             for (int jj = 0; jj < ny; ++jj)
               {
-                const double *k = row(kernel_rows, j - jj + ny - 1) + n, *u = row(load, jj) + n;
+                const double *k = row(kernel_rows, pair(j, jj)) + n, *u = row(load, jj) + n;
                 re += k[0] * u[0] - k[1] * u[1];
                 im += k[0] * u[1] + k[1] * u[0];
               }
@@ -160,12 +170,15 @@ namespace fretsim::contact
     int         padded_nx = 0, padded_ny = 0; ///< 2 nx (nx if periodic in x); 2 ny (ny with direct_rows)
     int         spectrum_nx = 0;              ///< padded_nx / 2 + 1: r2c keeps half the last dimension
 
-    /// K(di, dj) for di in [-(nx-1), nx-1], dj in [-(ny-1), ny-1], x fastest:
-    /// the direct sum reads it instead of calling the std::function N^2 times.
+    /// K for di in [-(nx-1), nx-1], x fastest, one row per kernel row
+    /// (`pair`: per row offset dj = -(ny-1)..ny-1, or per row pair): the
+    /// direct sum reads it instead of calling the std::function N^2 times.
     std::vector<double> kernel_table;
     int                 table_nx = 0;
+    KernelRows          pair;
+    int                 kernel_rows = 0;
     /// 2-D: FFT of the wrap-around kernel [padded_ny][spectrum_nx]. Rows:
-    /// FFT along x of each row offset dj = -(ny-1)..ny-1 [2ny-1][spectrum_nx].
+    /// FFT along x of each kernel row [kernel_rows][spectrum_nx].
     /// Both already divided by the transform's size (FFTW's c2r is
     /// unnormalised).
     std::vector<std::complex<double>> kernel_spectrum;
@@ -217,10 +230,15 @@ namespace fretsim::contact
       return w;
     }
 
-    double kernel(int di, int dj) const
+    /// The table's row r at offset di.
+    double kernel(int di, int r) const
     {
-      return kernel_table[static_cast<std::size_t>(dj + grid.ny - 1) * table_nx + (di + grid.nx - 1)];
+      return kernel_table[static_cast<std::size_t>(r) * table_nx + (di + grid.nx - 1)];
     }
+
+    /// Plans, the kernel's table and its spectra; `fill(table)` fills the
+    /// table [kernel_rows][table_nx] (pair and kernel_rows set).
+    void setup(const SurfaceGrid &g, bool periodic_x, Method method, const std::function<void(std::vector<double> &)> &fill);
 
     void convolve(const Field &load, Field &result, const Workspace &w) const
     {
@@ -306,10 +324,10 @@ namespace fretsim::contact
       auto       *out  = reinterpret_cast<double *>(w.result_spectrum.get());
       const auto  values = 2 * static_cast<std::size_t>(spectrum_nx);
       if (real_rows)
-        sum_rows_real_kernel(real_row_spectrum.data(), load, out, grid.ny, values, first_row, end_row);
+        sum_rows_real_kernel(real_row_spectrum.data(), pair, load, out, grid.ny, values, first_row, end_row);
       else
-        sum_rows_complex_kernel(reinterpret_cast<const double *>(kernel_spectrum.data()), load, out, grid.ny, values,
-                                first_row, end_row);
+        sum_rows_complex_kernel(reinterpret_cast<const double *>(kernel_spectrum.data()), pair, load, out, grid.ny,
+                                values, first_row, end_row);
     }
 
     ~Impl()
@@ -329,8 +347,39 @@ namespace fretsim::contact
       throw std::invalid_argument("SurfaceConvolution: empty grid");
     if (!kernel)
       throw std::invalid_argument("SurfaceConvolution: no influence function");
+    impl->pair        = {1, -1, grid.ny - 1};
+    impl->kernel_rows = 2 * grid.ny - 1;
+    impl->setup(grid, periodic_x, method, [&](std::vector<double> &table) {
+      const int table_nx = 2 * grid.nx - 1;
+      for (int dj = -(grid.ny - 1); dj <= grid.ny - 1; ++dj)
+        for (int di = -(grid.nx - 1); di <= grid.nx - 1; ++di)
+          table[static_cast<std::size_t>(dj + grid.ny - 1) * table_nx + (di + grid.nx - 1)] = kernel(di, dj);
+    });
+  }
 
-    Impl &d        = *impl;
+  SurfaceConvolution::SurfaceConvolution(const SurfaceGrid &grid, const RowPairInfluenceFunction &kernel)
+    : impl(std::make_unique<Impl>())
+  {
+    if (grid.nx <= 0 || grid.ny <= 0)
+      throw std::invalid_argument("SurfaceConvolution: empty grid");
+    if (!kernel)
+      throw std::invalid_argument("SurfaceConvolution: no influence function");
+    impl->pair        = {grid.ny, 1, 0};
+    impl->kernel_rows = grid.ny * grid.ny;
+    impl->setup(grid, true, Method::rows_along_x, [&](std::vector<double> &table) {
+      const int table_nx = 2 * grid.nx - 1;
+      for (int j = 0; j < grid.ny; ++j)
+        for (int jj = 0; jj < grid.ny; ++jj)
+          for (int di = -(grid.nx - 1); di <= grid.nx - 1; ++di)
+            table[static_cast<std::size_t>(j * grid.ny + jj) * table_nx + (di + grid.nx - 1)] = kernel(di, j, jj);
+    });
+  }
+
+  void SurfaceConvolution::Impl::setup(const SurfaceGrid &g, bool periodic_x, Method method,
+                                       const std::function<void(std::vector<double> &)> &fill)
+  {
+    Impl &d        = *this;
+    const SurfaceGrid &grid = g;
     d.grid         = grid;
     d.direct_rows  = method == Method::rows_along_x ||
                     (method == Method::automatic && grid.ny <= Impl::direct_rows_limit);
@@ -340,11 +389,8 @@ namespace fretsim::contact
     d.padded_ny    = d.direct_rows ? grid.ny : 2 * grid.ny;
     d.spectrum_nx  = d.padded_nx / 2 + 1;
     d.table_nx     = 2 * grid.nx - 1;
-    d.kernel_table.resize(static_cast<std::size_t>(d.table_nx) * (2 * grid.ny - 1));
-    for (int dj = -(grid.ny - 1); dj <= grid.ny - 1; ++dj)
-      for (int di = -(grid.nx - 1); di <= grid.nx - 1; ++di)
-        d.kernel_table[static_cast<std::size_t>(dj + grid.ny - 1) * d.table_nx + (di + grid.nx - 1)] =
-          kernel(di, dj);
+    d.kernel_table.resize(static_cast<std::size_t>(d.table_nx) * d.kernel_rows);
+    fill(d.kernel_table);
 
     Impl::Workspace &planning = d.workspaces[0].workspace;
     planning               = d.allocate_workspace();
@@ -406,16 +452,14 @@ namespace fretsim::contact
         d.kernel_spectrum.push_back(values[n] * normalisation);
     };
     if (d.direct_rows)
-      { // the row offsets dj, ny at a time through the same plan
-        const int offsets = 2 * grid.ny - 1;
-        for (int first = 0; first < offsets; first += grid.ny)
+      { // the kernel rows, ny at a time through the same plan
+        for (int first = 0; first < d.kernel_rows; first += grid.ny)
           {
             std::fill(real, real + d.padded_size(), 0.0);
-            const int count = std::min(grid.ny, offsets - first);
+            const int count = std::min(grid.ny, d.kernel_rows - first);
             for (int r = 0; r < count; ++r)
               for (int di = -(grid.nx - 1); di <= grid.nx - 1; ++di)
-                real[static_cast<std::size_t>(r) * d.padded_nx + wrap(di, d.padded_nx)] =
-                  d.kernel(di, first + r - (grid.ny - 1));
+                real[static_cast<std::size_t>(r) * d.padded_nx + wrap(di, d.padded_nx)] = d.kernel(di, first + r);
             fftw_execute_dft_r2c(d.forward, real, spectrum);
             transformed(0, static_cast<std::size_t>(count) * d.spectrum_nx);
           }
@@ -442,7 +486,7 @@ namespace fretsim::contact
         for (int dj = -(grid.ny - 1); dj <= grid.ny - 1; ++dj)
           for (int di = -(grid.nx - 1); di <= grid.nx - 1; ++di)
             real[static_cast<std::size_t>(wrap(dj, d.padded_ny)) * d.padded_nx + wrap(di, d.padded_nx)] =
-              d.kernel(di, dj);
+              d.kernel(di, dj + grid.ny - 1);
         fftw_execute_dft_r2c(d.forward, real, spectrum);
         transformed(0, d.spectrum_size());
       }
@@ -494,7 +538,7 @@ namespace fretsim::contact
           double sum = 0.0;
           for (int jj = 0; jj < ny; ++jj)
             {
-              const double *kernel_row = &d.kernel_table[static_cast<std::size_t>(j - jj + ny - 1) * d.table_nx];
+              const double *kernel_row = &d.kernel_table[static_cast<std::size_t>(d.pair(j, jj)) * d.table_nx];
               const double *load_row   = &load[d.grid.index(0, jj)];
               for (int ii = 0; ii < nx; ++ii)
                 sum += kernel_row[i - ii + nx - 1] * load_row[ii];

@@ -34,7 +34,7 @@ namespace fretsim::reduction
   namespace
   {
     constexpr const char *format_name    = "fretsim reduced model";
-    constexpr int         format_version = 1;
+    constexpr int         format_version = 2; // 2: the residual flexibility (older files lack it: rebuilt)
 
     /// An HDF5 id closed on scope exit.
     class Id
@@ -317,6 +317,20 @@ namespace fretsim::reduction
           write_number_attribute(raceway_group, "semi_axis_circumferential_m", r.semi_axis_circumferential);
           write_number_attribute(raceway_group, "semi_axis_transverse_m", r.semi_axis_transverse);
           write_number_attribute(raceway_group, "contact_angle_rad", r.contact_angle);
+          if (const ResidualFlexibility &residual = model.residual; !residual.empty())
+            {
+              const hsize_t cells = residual.ball.size(), rows = static_cast<hsize_t>(g.grid.ny);
+              const char   *names[3] = {"pressure", "shear_x", "shear_y"};
+              for (int k = 0; k < 3; ++k)
+                if (!residual.traction[k].empty())
+                  write_array(file, std::string("/residual_flexibility/") + names[k], {rows, cells},
+                              residual.traction[k]);
+              write_array(file, "/residual_flexibility/ball", {cells}, residual.ball);
+              Id group(H5Gopen2(file, "/residual_flexibility", H5P_DEFAULT), H5Gclose);
+              write_number_attribute(group, "column_angle_rad", residual.column_angle);
+              write_number_attribute(group, "solves", residual.solves);
+              write_number_attribute(group, "seconds", residual.seconds);
+            }
           if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0)
             throw std::runtime_error("cannot flush");
         }
@@ -413,6 +427,27 @@ namespace fretsim::reduction
             r.contact_angle             = read_number_attribute(raceway_group, "contact_angle_rad");
             if (r.approach.size() != r.angles.size() * n)
               throw std::runtime_error("raceway operator does not match the angle and coordinate counts");
+          }
+
+        if (H5Lexists(file, "/residual_flexibility", H5P_DEFAULT) > 0)
+          {
+            ResidualFlexibility &residual = model.residual;
+            residual.ball                 = read_array(file, "/residual_flexibility/ball");
+            const char *names[3]          = {"pressure", "shear_x", "shear_y"};
+            for (int k = 0; k < 3; ++k)
+              if (const std::string name = std::string("/residual_flexibility/") + names[k];
+                  H5Lexists(file, name.c_str(), H5P_DEFAULT) > 0)
+                {
+                  residual.traction[k] = read_array(file, name);
+                  if (residual.traction[k].size() != g.grid.size() * g.grid.ny)
+                    throw std::runtime_error("residual flexibility " + name + " does not match the interface grid");
+                }
+            Id group(H5Gopen2(file, "/residual_flexibility", H5P_DEFAULT), H5Gclose);
+            residual.column_angle = read_number_attribute(group, "column_angle_rad");
+            residual.solves       = static_cast<unsigned int>(read_number_attribute(group, "solves"));
+            residual.seconds      = read_number_attribute(group, "seconds");
+            if (residual.ball.size() != g.grid.size() || residual.traction[0].empty())
+              throw std::runtime_error("residual flexibility does not match the interface grid");
           }
 
         // Provenance: every root attribute named provenance_*.

@@ -3,6 +3,7 @@
 #include "app/compare_housing.h"
 
 #include "app/reduce_command.h"
+#include "app/reduced_statics.h"
 #include "app/ring_housing.h"
 #include "output/results_file.h"
 #include "scenes/bearing_scene.h"
@@ -104,179 +105,6 @@ namespace fretsim::app
       std::vector<double> run_q;                   ///< the run's modal coordinates
     };
 
-    /// The model restricted to the coordinates of one truncation (m', n_cc'):
-    /// the sub-blocks of K_r and M_r and the matching operator columns.
-    struct Truncation
-    {
-      unsigned int        fixed_interface = 0, constraint = 0;
-      std::size_t         n = 0;
-      bool                whole_model = false;
-      std::vector<double> shifted;           ///< K_r - σ M_r, n × n
-      std::vector<double> grid_displacement; ///< [cell][3][n]
-      std::vector<double> grid_stress;       ///< [cell][6][n]
-      std::vector<double> raceway_stress;    ///< [raceway point][6][n]
-      std::vector<double> approach;          ///< [angle][n]
-      std::size_t         n_angles = 0;
-      /// Inertia relief: the first six constraint coordinates are the
-      /// rigid-body motions R; M_r R [n][6] and the factor of Rᵀ M_r R [6][6].
-      std::vector<double> mass_rigid, rigid_factor;
-    };
-
-    /// The rigid-body motions of a free body.
-    constexpr std::size_t rigid_modes = 6;
-
-    void cholesky(std::vector<double> &a, std::size_t n);
-
-    /// Rows of a row-major [items][n_full] operator, restricted to `columns`.
-    std::vector<double> restrict_columns(const std::vector<double> &op, std::size_t n_full,
-                                         const std::vector<std::size_t> &columns)
-    {
-      const std::size_t   rows = n_full == 0 ? 0 : op.size() / n_full;
-      std::vector<double> result(rows * columns.size());
-      for (std::size_t r = 0; r < rows; ++r)
-        for (std::size_t c = 0; c < columns.size(); ++c)
-          result[r * columns.size() + c] = op[r * n_full + columns[c]];
-      return result;
-    }
-
-    Truncation truncate(const reduction::ReducedModel &model, unsigned int fixed_interface, unsigned int constraint,
-                        const std::vector<std::size_t> &raceway_points, double sigma)
-    {
-      const auto       &m      = model.matrices;
-      const std::size_t n_full = m.size();
-      std::vector<std::size_t> columns;
-      for (unsigned int j = 0; j < constraint; ++j)
-        columns.push_back(j);
-      for (unsigned int j = 0; j < fixed_interface; ++j)
-        columns.push_back(m.n_constraint + j);
-      Truncation t;
-      t.fixed_interface = fixed_interface;
-      t.constraint      = constraint;
-      t.n               = columns.size();
-      t.whole_model     = fixed_interface == m.n_modal && constraint == m.n_constraint;
-      t.shifted.resize(t.n * t.n);
-      for (std::size_t a = 0; a < t.n; ++a)
-        for (std::size_t b = 0; b < t.n; ++b)
-          {
-            const std::size_t k = columns[a] * n_full + columns[b];
-            t.shifted[a * t.n + b] = m.stiffness[k] - sigma * m.mass[k];
-          }
-      t.grid_displacement = restrict_columns(model.interface_grid.displacement, n_full, columns);
-      t.grid_stress       = restrict_columns(model.interface_grid.stress, n_full, columns);
-      std::vector<double> race;
-      for (const std::size_t p : raceway_points)
-        race.insert(race.end(), model.sample_points.stress.begin() + p * 6 * n_full,
-                    model.sample_points.stress.begin() + (p + 1) * 6 * n_full);
-      t.raceway_stress = restrict_columns(race, n_full, columns);
-      t.approach       = restrict_columns(model.raceway.approach, n_full, columns);
-      t.n_angles       = model.raceway.angles.size();
-      t.mass_rigid.resize(t.n * rigid_modes);
-      t.rigid_factor.resize(rigid_modes * rigid_modes);
-      for (std::size_t a = 0; a < t.n; ++a)
-        for (std::size_t r = 0; r < rigid_modes; ++r)
-          t.mass_rigid[a * rigid_modes + r] = m.mass[columns[a] * n_full + r];
-      for (std::size_t r = 0; r < rigid_modes; ++r)
-        for (std::size_t c = 0; c < rigid_modes; ++c)
-          t.rigid_factor[r * rigid_modes + c] = m.mass[r * n_full + c];
-      cholesky(t.rigid_factor, rigid_modes);
-      return t;
-    }
-
-    /// In-place Cholesky factor (lower) of a symmetric positive definite
-    /// row-major matrix, and the solve with it.
-    void cholesky(std::vector<double> &a, std::size_t n)
-    {
-      for (std::size_t j = 0; j < n; ++j)
-        {
-          double d = a[j * n + j];
-          for (std::size_t k = 0; k < j; ++k)
-            d -= a[j * n + k] * a[j * n + k];
-          if (!(d > 0.0))
-            throw std::runtime_error("compare: K_r - sigma M_r is not positive definite (coordinate " +
-                                     std::to_string(j) + ")");
-          a[j * n + j] = std::sqrt(d);
-          for (std::size_t i = j + 1; i < n; ++i)
-            {
-              double s = a[i * n + j];
-              for (std::size_t k = 0; k < j; ++k)
-                s -= a[i * n + k] * a[j * n + k];
-              a[i * n + j] = s / a[j * n + j];
-            }
-        }
-    }
-
-    std::vector<double> cholesky_solve(const std::vector<double> &l, std::size_t n, std::vector<double> b)
-    {
-      for (std::size_t i = 0; i < n; ++i)
-        {
-          for (std::size_t k = 0; k < i; ++k)
-            b[i] -= l[i * n + k] * b[k];
-          b[i] /= l[i * n + i];
-        }
-      for (std::size_t i = n; i-- > 0;)
-        {
-          for (std::size_t k = i + 1; k < n; ++k)
-            b[i] -= l[k * n + i] * b[k];
-          b[i] /= l[i * n + i];
-        }
-      return b;
-    }
-
-    /// Inertia relief of a generalised load, g - M_r R (Rᵀ M_r R)⁻¹ Rᵀ g (Rᵀ g
-    /// is g's first six entries): the reduced counterpart of the full model's
-    /// f - M Φ Φᵀ f (fem/shifted_static_solver.h).
-    void relieve(const Truncation &t, std::vector<double> &g)
-    {
-      const std::vector<double> a = cholesky_solve(t.rigid_factor, rigid_modes, std::vector<double>(g.begin(), g.begin() + rigid_modes));
-      for (std::size_t j = 0; j < t.n; ++j)
-        for (std::size_t r = 0; r < rigid_modes; ++r)
-          g[j] -= t.mass_rigid[j * rigid_modes + r] * a[r];
-    }
-
-    /// q without its rigid-body motion: q - R (Rᵀ M_r R)⁻¹ Rᵀ M_r q
-    /// (M_r-orthogonal to every rigid motion, as the relieved solutions are).
-    void remove_rigid_motion(const Truncation &t, std::vector<double> &q)
-    {
-      std::vector<double> c(rigid_modes, 0.0);
-      for (std::size_t j = 0; j < t.n; ++j)
-        for (std::size_t r = 0; r < rigid_modes; ++r)
-          c[r] += t.mass_rigid[j * rigid_modes + r] * q[j];
-      const std::vector<double> a = cholesky_solve(t.rigid_factor, rigid_modes, c);
-      for (std::size_t r = 0; r < rigid_modes; ++r)
-        q[r] -= a[r];
-    }
-
-    /// y = A q for a row-major [rows][n] operator.
-    std::vector<double> apply(const std::vector<double> &op, std::size_t n, const std::vector<double> &q)
-    {
-      const std::size_t   rows = n == 0 ? 0 : op.size() / n;
-      std::vector<double> y(rows, 0.0);
-      for (std::size_t r = 0; r < rows; ++r)
-        {
-          const double *row = op.data() + r * n;
-          double        s   = 0.0;
-          for (std::size_t j = 0; j < n; ++j)
-            s += row[j] * q[j];
-          y[r] = s;
-        }
-      return y;
-    }
-
-    /// r(ψ) interpolated linearly between the stored positions ψ_k = 2πk/n,
-    /// with the co-simulation's weights (coupling/ring_coupling.cpp).
-    void add_ball_row(const Truncation &t, double angle, double factor, std::vector<double> &row)
-    {
-      const double spacing  = 2.0 * M_PI / static_cast<double>(t.n_angles);
-      double       position = std::fmod(angle, 2.0 * M_PI);
-      if (position < 0.0)
-        position += 2.0 * M_PI;
-      const double      scaled = position / spacing;
-      const std::size_t k0     = static_cast<std::size_t>(scaled) % t.n_angles, k1 = (k0 + 1) % t.n_angles;
-      const double      w      = scaled - std::floor(scaled);
-      for (std::size_t j = 0; j < t.n; ++j)
-        row[j] += factor * ((1.0 - w) * t.approach[k0 * t.n + j] + w * t.approach[k1 * t.n + j]);
-    }
-
     /// What the reduced model gives at an instant.
     struct Recovered
     {
@@ -330,11 +158,7 @@ namespace fretsim::app
                 g[j] += traction[d] * row[j];
             }
         }
-      relieve(t, g);
-      std::vector<double> factor = t.shifted;
-      cholesky(factor, t.n);
-      r.q = cholesky_solve(factor, t.n, g);
-      remove_rigid_motion(t, r.q); // none in exact arithmetic; the round-off 1/|σ| amplifies
+      r.q = relieved_static(t, g);
       recover(t, instant, r);
       r.seconds = seconds_since(start);
       for (std::size_t j = 0; j < t.n; ++j)
@@ -479,27 +303,21 @@ namespace fretsim::app
       WinklerComparison winkler;
     };
 
-    /// The part of the ring's static compliance the model's basis misses —
-    /// MacNeal's residual flexibility R = K⁻¹ − T K_r⁻¹ Tᵀ, both with inertia
-    /// relief — as u_r on the interface grid: per unit force of each traction
-    /// component on each cell of the grid's first column, and per unit ball
-    /// load at that column's angle. On the axisymmetric ring R is taken as
-    /// circulant in θ — the geometry's symmetry; the mesh's divisions need
-    /// not be the grid's columns, and that difference is the approximation's
-    /// error: a load on column i0 acts as the first column's, shifted by i0,
-    /// and a ball between columns as the table interpolated.
-    /// A diagnostic of what the README's next step for the basis would add:
-    /// reduced + R against the full FE.
-    struct ResidualFlexibility
+    /// The whole model's residual flexibility (reduction::ResidualFlexibility,
+    /// app::residual_flexibility) applied to an instant's tractions and ball
+    /// loads: u_r per cell [m]. Taken circulant in θ — the axisymmetric ring;
+    /// the mesh's divisions need not be the grid's columns, and that
+    /// difference is the approximation's error: a load on column i0 acts as
+    /// the first column's, shifted by i0, and a ball between columns as the
+    /// table interpolated. A check of what the co-simulation adds
+    /// (Interface/Ring residual flexibility): reduced + R against the full FE.
+    std::vector<double> apply_residual(const reduction::ResidualFlexibility &residual, const fem::CylinderGrid &grid,
+                                       const Instant &instant)
     {
-      int                              nx = 0, ny = 0;
-      double                           cell_area = 0.0, column_angle = 0.0, angle_step = 0.0;
-      std::array<std::vector<double>, 3> traction; ///< [component][source row j][cell] u_r per N
-      std::vector<double>              ball;     ///< [cell] u_r per N of a ball at column_angle
-
-      /// R applied to an instant's tractions and ball loads: u_r per cell [m].
-      std::vector<double> apply(const Instant &instant) const
-      {
+        const int           nx = grid.nx, ny = grid.ny;
+        const double        cell_area = grid.cell_area(), angle_step = grid.hx / grid.radius;
+        const auto         &traction = residual.traction;
+        const auto         &ball     = residual.ball;
         const std::size_t   cells = static_cast<std::size_t>(nx) * ny;
         std::vector<double> u(cells, 0.0);
         const std::array<const std::vector<double> *, 3> loads{&instant.tractions.pressure, &instant.tractions.shear_x,
@@ -520,7 +338,7 @@ namespace fretsim::app
               }
         for (std::size_t b = 0; b < instant.ball_angles.size(); ++b)
           {
-            const double shift = std::remainder(instant.ball_angles[b] - column_angle, 2.0 * M_PI) / angle_step;
+            const double shift = std::remainder(instant.ball_angles[b] - residual.column_angle, 2.0 * M_PI) / angle_step;
             for (int jj = 0; jj < ny; ++jj)
               for (int i = 0; i < nx; ++i)
                 {
@@ -532,8 +350,7 @@ namespace fretsim::app
                 }
           }
         return u;
-      }
-    };
+    }
 
     /// A full-FE transient of the ring on the run's Winkler foundation under
     /// the run's ball loads (fem::WinklerNewmark; no bristle tractions, so a
@@ -925,9 +742,7 @@ namespace fretsim::app
       // Inertia relief needs the rigid-body motions among the coordinates: the
       // first six characteristic constraint modes of a free ring (Guyan
       // eigenvalue 0; below the 1 Hz rigid-body cutoff of fem::ModalSettings).
-      const auto &f = model.matrices.interface_frequencies_hz;
-      if (f.size() <= rigid_modes || f[rigid_modes - 1] >= fem::ModalSettings{}.rigid_body_cutoff_hz ||
-          f[rigid_modes] < fem::ModalSettings{}.rigid_body_cutoff_hz)
+      if (!starts_with_rigid_motions(model.matrices))
         reject("Model/Model file", "'" + in.model_file + "' does not start with the six rigid-body motions of the free "
                                                          "ring among its characteristic constraint modes (a free ring "
                                                          "reduced with Reduction/Characteristic constraint modes > 6 "
@@ -1088,44 +903,10 @@ namespace fretsim::app
       // The whole model's residual flexibility, column by column: a unit
       // force of each traction component on each cell of the grid's first
       // column, and a unit ball at that column's angle, full FE and reduced.
-      ResidualFlexibility residual;
-      double              residual_seconds = 0.0;
-      const auto          whole = std::find_if(views.begin(), views.end(), [](const Truncation &v) { return v.whole_model; });
+      reduction::ResidualFlexibility residual;
+      const auto whole = std::find_if(views.begin(), views.end(), [](const Truncation &v) { return v.whole_model; });
       if (whole != views.end())
-        {
-          const auto residual_start = Clock::now();
-          const double area = grid.cell_area();
-          residual.nx = grid.nx;
-          residual.ny = grid.ny;
-          residual.cell_area    = area;
-          residual.angle_step   = grid.hx / grid.radius;
-          residual.column_angle = grid.x(0) / grid.radius;
-          Instant unit;
-          for (auto *field : {&unit.tractions.pressure, &unit.tractions.shear_x, &unit.tractions.shear_y})
-            field->assign(grid.size(), 0.0);
-          const auto residual_u_r = [&](const Instant &part) {
-            std::vector<double> u_r = map.interpolate(solver.solve(static_load(part))).u_r;
-            const Recovered     reduced = reduced_static(*whole, part, area);
-            for (std::size_t c = 0; c < u_r.size(); ++c)
-              u_r[c] -= reduced.displacement[3 * c];
-            return u_r;
-          };
-          for (int k = 0; k < 3; ++k)
-            {
-              auto &field = k == 0 ? unit.tractions.pressure : k == 1 ? unit.tractions.shear_x : unit.tractions.shear_y;
-              for (int j = 0; j < grid.ny; ++j)
-                {
-                  field[static_cast<std::size_t>(j * grid.nx)] = 1.0 / area; // 1 N on the cell
-                  const std::vector<double> column = residual_u_r(unit);
-                  residual.traction[k].insert(residual.traction[k].end(), column.begin(), column.end());
-                  field[static_cast<std::size_t>(j * grid.nx)] = 0.0;
-                }
-            }
-          unit.ball_angles = {residual.column_angle};
-          unit.ball_loads  = {1.0};
-          residual.ball    = residual_u_r(unit);
-          residual_seconds = seconds_since(residual_start);
-        }
+        residual = residual_flexibility(solver, map, *whole, grid, raceway_ball, 3);
 
       if (root)
         {
@@ -1148,9 +929,9 @@ namespace fretsim::app
             out << ' ' << i.snapshot;
           out << "\n";
           if (!residual.ball.empty())
-            out << "residual:     R = K^-1 - T K_r^-1 T^T on the grid from " << 3 * grid.ny + 1
+            out << "residual:     R = K^-1 - T K_r^-1 T^T on the grid from " << residual.solves
                 << " full and reduced solves (unit loads on the grid's first column, a unit ball) in " << std::fixed
-                << std::setprecision(2) << residual_seconds << " s\n" << std::defaultfloat;
+                << std::setprecision(2) << residual.seconds << " s\n" << std::defaultfloat;
           if (run.other_model)
             out << "note:         the run used a model of " << run.n_coordinates << " coordinates, not this one's "
                 << matrices.size() << ": its loads and pressures are compared, its own q is not\n";
@@ -1336,7 +1117,7 @@ namespace fretsim::app
               if (view.whole_model && !residual.ball.empty())
                 {
                   const auto with_residual = [&](const Recovered &r, const Instant &part, const FullSolution &f) {
-                    std::vector<double> u_r = residual.apply(part);
+                    std::vector<double> u_r = apply_residual(residual, grid, part);
                     for (std::size_t c = 0; c < u_r.size(); ++c)
                       u_r[c] += r.displacement[3 * c];
                     return relative_max_error(u_r, 0, 1, f.displacement[0]);

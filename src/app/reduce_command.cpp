@@ -1,9 +1,12 @@
 #include "app/reduce_command.h"
 
+#include "app/reduced_statics.h"
+
 #include "app/progress.h"
 #include "scenes/figures.h"
 
 #include <fretsim/fem/parallel_environment.h>
+#include <fretsim/fem/shifted_static_solver.h>
 #include <fretsim/fem/stress_sampler.h>
 #include <fretsim/fem/surface_point_map.h>
 #include <fretsim/fem/transient.h>
@@ -553,6 +556,27 @@ namespace fretsim::app
         throw InputError(options.config_file, "Reduction/Raceway ball positions", error.what());
       }
     const double raceway_seconds = seconds_since(raceway_start);
+    // The basis's residual flexibility on the interface grid, for the
+    // co-simulation's local compliance (Interface/Ring residual flexibility):
+    // a free ring with a raceway and a grid (inertia relief needs the six
+    // rigid motions among the coordinates). Pressure only: that is what the
+    // co-simulation uses.
+    if (request.body.bodies == "ring" && request.clamped_surfaces.empty() && grid.nx > 0 &&
+        !result.raceway.angles.empty() && starts_with_rigid_motions(result.matrices))
+      {
+        display("residual flexibility", 0.0);
+        fem::ShiftedStaticSolver   solver(model, request.settings.static_shift_hz, /*inertia_relief=*/true);
+        const fem::SurfaceGridMap  map(model, request.grid_surface, grid);
+        const reduction::ReducedModel &reduced = result;
+        const Truncation whole = whole_model(reduced, solver.shift());
+        result.residual = residual_flexibility(solver, map, whole, grid,
+                                               [&](double angle, double force) {
+                                                 fem::RacewayBallLoad ball = unit_ball(request, angle);
+                                                 ball.force                = force;
+                                                 return ball;
+                                               },
+                                               1);
+      }
     display("done", 1.0);
 
     result.input_hash = request.input_hash;
@@ -579,6 +603,10 @@ namespace fretsim::app
               << std::setprecision(3) << 1e3 * request.footprint_circumferential << " x "
               << 1e3 * request.footprint_transverse << " mm) in " << std::setprecision(2) << raceway_seconds
               << " s\n";
+        if (!result.residual.empty())
+          out << "residual:     R = K^-1 - T K_r^-1 T^T of the pressure on the interface grid and of a ball, from "
+              << result.residual.solves << " full and reduced solves in " << std::setprecision(2)
+              << result.residual.seconds << " s\n";
         out << std::scientific << std::setprecision(1) << "symmetry:     |K_r - K_r^T| "
             << m.stiffness_asymmetry << ", |M_r - M_r^T| " << m.mass_asymmetry << " (relative)\n"
             << std::defaultfloat;

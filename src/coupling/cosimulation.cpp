@@ -137,11 +137,28 @@ namespace fretsim::coupling
           out.by_position = by_position.data();
           out.by_velocity = by_velocity.data();
         }
-      interface.add_forces(q, v, out);
+      // The balls first: with the ring's residual flexibility their loads
+      // reach the interface's penetration.
       double e[2], e_rate[2];
       inner_ring(t, e, e_rate);
-      balls.add_forces(ball_angles(t), cage, e, e_rate, q, v, out);
+      const std::vector<double> angles = ball_angles(t);
+      balls.add_forces(angles, cage, e, e_rate, q, v, out);
+      interface.set_ball_loads(angles, balls.loads());
+      interface.add_forces(q, v, out);
       stats.contact_seconds += seconds_since(start);
+    }
+
+    /// The paper's bristle update at the accepted state (t, q, q̇), with the
+    /// ball loads there.
+    void accept(double t, const double *q, const double *v)
+    {
+      double e[2], e_rate[2];
+      inner_ring(t, e, e_rate);
+      const std::vector<double> angles = ball_angles(t);
+      std::vector<double>       scratch(n, 0.0);
+      balls.add_forces(angles, cage, e, e_rate, q, v, {scratch.data(), nullptr, nullptr});
+      interface.set_ball_loads(angles, balls.loads());
+      interface.accept(q, v);
     }
 
     int rhs(double t, const double *y, double *y_rate)
@@ -424,7 +441,7 @@ namespace fretsim::coupling
       }
     } counters{sun.arkode, d.stats, d.interface};
 
-    d.interface.accept(y, y + n);
+    d.accept(0.0, y, y + n);
     if (!emit(0.0))
       return false;
     const long   outputs = std::lround(s.duration / s.output_interval);
@@ -465,7 +482,7 @@ namespace fretsim::coupling
             d.stats.smallest_step = std::min(d.stats.smallest_step, step);
             d.stats.largest_step  = std::max(d.stats.largest_step, step);
             const auto accept_start = Clock::now();
-            d.interface.accept(y, y + n); // the paper's bristle update after the step
+            d.accept(t, y, y + n); // the paper's bristle update after the step
             d.stats.contact_seconds += seconds_since(accept_start);
           }
         if (!emit(t_out))

@@ -12,10 +12,11 @@ namespace fretsim::coupling
   struct LocalCompliance::Impl
   {
     contact::SurfaceGrid        grid;
+    double                      structural_asymmetry = 0.0; // (set while `compliance` is built)
     contact::SurfaceConvolution compliance;
     double                      layer_compliance; ///< 1/k_n [m/Pa]
     double                      sensitivity_tolerance;
-    double                      self = 0.0;
+    double                      self = 0.0; ///< the largest diagonal entry of C [m/Pa]
     double                      uniform = 0.0; ///< the largest displacement under p = 1 everywhere [m/Pa]
     contact::Field              response, gap, direction; // work arrays of solve()
     Statistics                  statistics;
@@ -28,29 +29,75 @@ namespace fretsim::coupling
     std::size_t              last_columns = 0;
 
     Impl(const contact::SurfaceGrid &g, double modulus, double layer_stiffness, bool periodic_x,
-         double cg_tolerance)
+         double cg_tolerance, const std::vector<double> &structural)
       : grid(g)
-      , compliance(g,
-                   [g, modulus, periodic_x](int di, int dj) {
-                     // On the closed circumference the nearest image acts
-                     // (a periodic kernel, convolved without padding in x).
-                     if (periodic_x)
-                       {
-                         di = ((di % g.nx) + g.nx) % g.nx;
-                         if (di > g.nx / 2)
-                           di -= g.nx;
-                       }
-                     return contact::influence::normal_displacement(di * g.hx, dj * g.hy, g.hx, g.hy, modulus);
-                   },
-                   periodic_x)
+      , compliance(kernel(g, modulus, periodic_x, structural, structural_asymmetry))
       , layer_compliance(1.0 / layer_stiffness)
       , sensitivity_tolerance(cg_tolerance)
-      , self(contact::influence::normal_displacement(0.0, 0.0, g.hx, g.hy, modulus))
     {
+      for (int j = 0; j < g.ny; ++j)
+        self = std::max(self, diagonal(j));
       for (auto *field : {&response, &gap, &direction})
         field->assign(g.size(), 0.0);
       compliance.apply(contact::Field(g.size(), 1.0), response);
       uniform = *std::max_element(response.begin(), response.end()) + layer_compliance;
+    }
+
+    /// C's diagonal entry of a cell in row j [m/Pa].
+    double diagonal(int j) const
+    {
+      contact::Field unit(grid.size(), 0.0), response;
+      unit[grid.index(0, j)] = 1.0;
+      compliance.apply(unit, response);
+      return response[grid.index(0, j)];
+    }
+
+    /// The half-space's kernel (Love's rectangles; on the closed
+    /// circumference the nearest image acts: periodic, convolved without
+    /// padding in x), and the structural compliance added to it if given.
+    static contact::SurfaceConvolution kernel(const contact::SurfaceGrid &g, double modulus, bool periodic_x,
+                                              const std::vector<double> &structural, double &asymmetry)
+    {
+      const auto nearest = [g](int di) {
+        di = ((di % g.nx) + g.nx) % g.nx;
+        return di > g.nx / 2 ? di - g.nx : di;
+      };
+      const auto love = [g, modulus, periodic_x, nearest](int di, int dj) {
+        if (modulus <= 0.0)
+          return 0.0;
+        return contact::influence::normal_displacement((periodic_x ? nearest(di) : di) * g.hx, dj * g.hy, g.hx,
+                                                       g.hy, modulus);
+      };
+      if (structural.empty())
+        return contact::SurfaceConvolution(g, love, periodic_x);
+      // R(di; j, jj): cell (di, j) under pressure on (0, jj). Reciprocity
+      // (R(di; j, jj) = R(-di; jj, j)) and the ring's mirror symmetry
+      // (even in di) hold for the exact compliance; the FE mesh, whose
+      // divisions are not the grid's, and the sampling from one column break
+      // them slightly: averaged over the four, the operator is symmetric and
+      // its row spectra real.
+      const auto raw = [g, &structural](int di, int j, int jj) {
+        di = ((di % g.nx) + g.nx) % g.nx;
+        return structural[static_cast<std::size_t>(jj) * g.size() + g.index(di, j)];
+      };
+      std::vector<double> table(static_cast<std::size_t>(g.nx) * g.ny * g.ny);
+      double              largest = 0.0, deviation = 0.0;
+      for (int j = 0; j < g.ny; ++j)
+        for (int jj = 0; jj < g.ny; ++jj)
+          for (int di = 0; di < g.nx; ++di)
+            {
+              const double value = raw(di, j, jj);
+              const double mean  = 0.25 * (value + raw(-di, j, jj) + raw(-di, jj, j) + raw(di, jj, j));
+              table[(static_cast<std::size_t>(j) * g.ny + jj) * g.nx + di] = mean;
+              largest   = std::max(largest, std::abs(value));
+              deviation = std::max(deviation, std::abs(value - mean));
+            }
+      asymmetry = largest > 0.0 ? deviation / largest : 0.0;
+      return contact::SurfaceConvolution(
+        g, contact::RowPairInfluenceFunction([g, love, table = std::move(table)](int di, int j, int jj) {
+          const int wrapped = ((di % g.nx) + g.nx) % g.nx;
+          return love(di, j - jj) + table[(static_cast<std::size_t>(j) * g.ny + jj) * g.nx + wrapped];
+        }));
     }
 
     /// out = (C + I/k_n) in, on the whole grid.
@@ -64,16 +111,26 @@ namespace fretsim::coupling
   };
 
   LocalCompliance::LocalCompliance(const contact::SurfaceGrid &grid, double contact_modulus, double layer_stiffness,
-                                   bool periodic_x, double sensitivity_tolerance)
+                                   bool periodic_x, double sensitivity_tolerance,
+                                   const std::vector<double> &structural_compliance)
   {
-    if (!(contact_modulus > 0.0) || !std::isfinite(contact_modulus))
-      throw std::invalid_argument("local compliance: the contact modulus must be positive and finite");
+    if (!(contact_modulus >= 0.0) || !std::isfinite(contact_modulus) ||
+        (contact_modulus == 0.0 && structural_compliance.empty()))
+      throw std::invalid_argument("local compliance: the contact modulus must be positive and finite (or 0 with a "
+                                  "structural compliance)");
+    if (!structural_compliance.empty() &&
+        (!periodic_x || structural_compliance.size() != grid.size() * static_cast<std::size_t>(grid.ny)))
+      throw std::invalid_argument("local compliance: the structural compliance needs the closed circumference and "
+                                  "[rows][cells] entries");
     if (!(layer_stiffness > 0.0) || !std::isfinite(layer_stiffness))
       throw std::invalid_argument("local compliance: the layer stiffness must be positive and finite");
     if (!(sensitivity_tolerance > 0.0 && sensitivity_tolerance < 1.0))
       throw std::invalid_argument("local compliance: the sensitivity tolerance must be in (0, 1)");
-    impl = std::make_unique<Impl>(grid, contact_modulus, layer_stiffness, periodic_x, sensitivity_tolerance);
+    impl = std::make_unique<Impl>(grid, contact_modulus, layer_stiffness, periodic_x, sensitivity_tolerance,
+                                  structural_compliance);
   }
+
+  double LocalCompliance::structural_asymmetry() const { return impl->structural_asymmetry; }
 
   LocalCompliance::~LocalCompliance() = default;
 

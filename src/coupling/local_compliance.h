@@ -9,7 +9,10 @@
 // housing's (and the ring's) local elasticity does. The layer then becomes a
 // penalty: its compliance 1/k_n adds to the half-space's, and for k_n far
 // above the half-space's stiffness the pressure tends to the complementarity
-// solution of the half-space alone.
+// solution of the half-space alone. Optionally the ring's residual
+// flexibility (the part of its compliance its reduced basis misses, as
+// reduce stores it) joins C: a kernel invariant around the circumference
+// whose rows across the width differ, applied in the same row transforms.
 #include <fretsim/contact/surface_grid.h>
 
 #include <memory>
@@ -27,13 +30,19 @@ namespace fretsim::coupling
     static constexpr double default_sensitivity_tolerance = 1e-2;
 
     /// `contact_modulus` E' [Pa]: 1/E' = Σ (1 - ν²)/E over the bodies whose
-    /// local compliance the half-space stands for. `layer_stiffness` k_n
-    /// [Pa/m] of the layer in series. `periodic_x`: the grid's x is the whole
+    /// local compliance the half-space stands for; 0: no half-space (then a
+    /// structural compliance must be given). `layer_stiffness` k_n [Pa/m] of
+    /// the layer in series. `periodic_x`: the grid's x is the whole
     /// circumference (distances wrap around). `sensitivity_tolerance`: where
     /// pressure_sensitivity's conjugate gradients stop, relative to each
-    /// right-hand side's largest entry [-].
+    /// right-hand side's largest entry [-]. `structural_compliance`: empty,
+    /// or [load row jj][cell] the inward displacement of every cell per unit
+    /// pressure on cell (0, jj) [m/Pa], taken as invariant around the
+    /// circumference (periodic_x), made symmetric (reciprocity) and even in
+    /// x (the ring's mirror symmetry) by averaging.
     LocalCompliance(const contact::SurfaceGrid &grid, double contact_modulus, double layer_stiffness,
-                    bool periodic_x, double sensitivity_tolerance = default_sensitivity_tolerance);
+                    bool periodic_x, double sensitivity_tolerance = default_sensitivity_tolerance,
+                    const std::vector<double> &structural_compliance = {});
     ~LocalCompliance();
 
     /// Solves the contact of the layer on the half-space for the structural
@@ -63,6 +72,10 @@ namespace fretsim::coupling
       std::size_t sensitivity_reuses = 0; ///< sensitivities answered from the last one (loaded set within 2 %)
     };
     const Statistics &statistics() const;
+
+    /// How far the structural compliance was from symmetric and even:
+    /// max |R - R_sym| / max |R| before the averaging (0 without one) [-].
+    double structural_asymmetry() const;
 
   private:
     struct Impl;

@@ -30,6 +30,10 @@ namespace fretsim::coupling
       fail("the interface radius must be positive");
     if (raceway_angles < 4 || raceway_approach.size() != raceway_angles * n)
       fail("the raceway ball operator must have n values at each of at least 4 angles");
+    if (residual_pressure.empty() != residual_ball.empty() ||
+        (!residual_pressure.empty() && (residual_pressure.size() != interface_grid.size() * interface_grid.ny ||
+                                        residual_ball.size() != interface_grid.size())))
+      fail("the residual flexibility must have [rows][cells] pressure and [cells] ball entries");
   }
 
   ReducedRing with_flexible_housing(const ReducedRing &ring, const ReducedHousing &housing)
@@ -60,6 +64,9 @@ namespace fretsim::coupling
     joint.interface_radius            = ring.interface_radius;
     joint.interface_grid              = ring.interface_grid;
     joint.raceway_angles              = ring.raceway_angles;
+    joint.residual_pressure           = ring.residual_pressure;
+    joint.residual_ball               = ring.residual_ball;
+    joint.residual_column_angle       = ring.residual_column_angle;
     joint.mass.assign(n * n, 0.0);
     joint.stiffness.assign(n * n, 0.0);
     const auto place = [n](std::vector<double> &to, const std::vector<double> &from, std::size_t size,
@@ -143,6 +150,11 @@ namespace fretsim::coupling
     // and approach, and this evaluation's structural penetration and rate.
     std::unique_ptr<LocalCompliance> local;
     contact::Field                   local_pressure, local_penetration, structural, structural_rate;
+    /// The ring's residual flexibility: a ball's u_r per N at the column
+    /// angle, and the balls' residual u_r at the loads last set [m].
+    std::vector<double> residual_ball;
+    double              residual_column_angle = 0.0;
+    contact::Field      ball_residual;
 
     Impl(const ReducedRing &ring, const InterfaceSettings &s)
       : settings(s)
@@ -161,17 +173,45 @@ namespace fretsim::coupling
         field->assign(cells, 0.0);
       loaded.assign(cells, 0);
       slipping.assign(cells, 0);
-      if (settings.local_compliance_modulus > 0.0)
+      if (settings.local_compliance_modulus > 0.0 || !ring.residual_pressure.empty())
         {
           const bool closed = std::abs(grid.nx * grid.hx - 2.0 * M_PI * radius) <= 1e-9 * radius;
           local = std::make_unique<LocalCompliance>(grid, settings.local_compliance_modulus,
                                                     settings.normal_stiffness, closed,
-                                                    settings.sensitivity_tolerance);
+                                                    settings.sensitivity_tolerance, ring.residual_pressure);
           for (auto *field : {&local_pressure, &local_penetration})
             field->assign(cells, 0.0);
         }
       structural.assign(cells, 0.0);
       structural_rate.assign(cells, 0.0);
+      ball_residual.assign(cells, 0.0);
+      residual_ball         = ring.residual_ball;
+      residual_column_angle = ring.residual_column_angle;
+    }
+
+    /// ball_residual = Σ_j Q_j R_b(θ - ψ_j): the table shifted to each ball,
+    /// linear between columns (as compare applies it).
+    void set_ball_loads(const std::vector<double> &angles, const std::vector<double> &loads)
+    {
+      std::fill(ball_residual.begin(), ball_residual.end(), 0.0);
+      if (residual_ball.empty())
+        return;
+      const int    nx = grid.nx, ny = grid.ny;
+      const double angle_step = grid.hx / radius;
+      for (std::size_t b = 0; b < angles.size(); ++b)
+        {
+          if (loads[b] == 0.0)
+            continue;
+          const double shift = std::remainder(angles[b] - residual_column_angle, 2.0 * M_PI) / angle_step;
+          for (int i = 0; i < nx; ++i)
+            {
+              const double at = i - shift, lower = std::floor(at), fraction = at - lower;
+              const int    k0 = ((static_cast<int>(lower) % nx) + nx) % nx, k1 = (k0 + 1) % nx;
+              for (int j = 0; j < ny; ++j)
+                ball_residual[grid.index(i, j)] += loads[b] * ((1.0 - fraction) * residual_ball[grid.index(k0, j)] +
+                                                               fraction * residual_ball[grid.index(k1, j)]);
+            }
+        }
     }
 
     double dot(const float *values, const double *x) const
@@ -301,7 +341,8 @@ namespace fretsim::coupling
         { // the layer on the half-space's give; its damping through the
           // structural approach rate (w's rate is not in it)
           for (std::size_t c = 0; c < cells; ++c)
-            local_penetration[c] = structural[c] + settings.normal_damping_time * structural_rate[c];
+            local_penetration[c] =
+              structural[c] + ball_residual[c] + settings.normal_damping_time * structural_rate[c];
           local->solve(local_penetration, local_pressure);
         }
 #pragma omp parallel
@@ -472,6 +513,11 @@ namespace fretsim::coupling
   void InterfaceContact::add_forces(const double *q, const double *velocity, const ForceOutput &out)
   {
     impl->evaluate(q, velocity, out);
+  }
+
+  void InterfaceContact::set_ball_loads(const std::vector<double> &angles, const std::vector<double> &loads)
+  {
+    impl->set_ball_loads(angles, loads);
   }
 
   void InterfaceContact::accept(const double *q, const double *velocity)

@@ -18,6 +18,12 @@
 //    the ring's own stays with its reduced model (a half-space for it as
 //    well would count its long wavelengths twice). The half-space also
 //    gives the subsurface stresses under the interface tractions.
+//  * the ring's residual flexibility (ReducedRing::residual_pressure,
+//    optional): what the basis misses of the ring's static compliance on
+//    the interface (R = K⁻¹ − T K_r⁻¹ Tᵀ, orthogonal to what the basis
+//    holds, so adding it counts nothing twice) joins the half-space in
+//    series with the layer; a ball's residual displacement of the interface
+//    adds to the penetration.
 //  * ball contacts: the Hertz law carries the local indentation of ball and
 //    raceways; the reduced model the ring's global deformation, read as the
 //    work-conjugate approach r(ψ)·q of a Hertz-distributed unit ball load.
@@ -54,6 +60,16 @@ namespace fretsim::coupling
     /// outward approach [m per unit q]. Interpolated linearly in ψ.
     std::vector<double> raceway_approach; ///< [n_angles][n]
     std::size_t         raceway_angles = 0;
+
+    /// The ring's residual flexibility (what its basis misses of its static
+    /// compliance; reduction::ResidualFlexibility), in the interface's
+    /// terms; both empty: none. `residual_pressure` [load row jj][cell]: the
+    /// inward displacement of every cell per unit pressure on cell (0, jj)
+    /// [m/Pa] (LocalCompliance's structural compliance); `residual_ball`
+    /// [cell]: the outward u_r per N of a ball at `residual_column_angle`
+    /// [m/N], shifted around with each ball.
+    std::vector<double> residual_pressure, residual_ball;
+    double              residual_column_angle = 0.0;
 
     /// Coordinates of a flexible housing appended after the ring's own
     /// (with_flexible_housing); 0: the housing is rigid and fixed.
@@ -160,6 +176,13 @@ namespace fretsim::coupling
     void add_forces(const double *q, const double *velocity, const ForceOutput &out);
     /// Stores the bristle state at the accepted (q, q̇).
     void accept(const double *q, const double *velocity);
+
+    /// The ball loads [N] at their angles [rad] for the next add_forces or
+    /// accept: with the ring's residual flexibility, each ball's residual
+    /// u_r under the interface adds to the structural penetration (quasi-
+    /// static, like the residual itself). Newton's matrix leaves out its
+    /// derivative through the ball loads (see the README).
+    void set_ball_loads(const std::vector<double> &angles, const std::vector<double> &loads);
 
     /// Fields at the last accepted state [Pa] (pressure positive; shear_x
     /// circumferential, shear_y axial: the housing's traction on the ring).

@@ -143,6 +143,7 @@ namespace fretsim::scenes
     coupling::CosimulationSettings run;
     double                         ring_poisson_ratio = 0.3;
     std::string                    local_compliance   = "none"; ///< Interface/Local compliance
+    bool                           ring_residual      = true;   ///< Interface/Ring residual flexibility
     std::string                    in_step_bristle_law = "implicit Euler"; ///< Interface/In-step bristle law
     int                            samples_per_ball_pass = 40;
     double                         ball_pass_frequency = 0.0;
@@ -233,6 +234,13 @@ namespace fretsim::scenes
                       "(housing and ring: the ring's local compliance beyond what its interface modes resolve, "
                       "counting its long wavelengths twice). Only none with a flexible housing.",
                       "none|housing|both"),
+      Spec::selection("Interface/Ring residual flexibility", "true",
+                    "Add the part of the ring's static compliance its reduced basis misses on the interface "
+                    "(R = K^-1 - T K_r^-1 T^T, which `fretsim reduce` stores in the model file) to the local "
+                    "compliance in series with the layer, and each ball's residual displacement of the interface "
+                    "to its penetration: the pressure under a ball as the full FE ring gives it, whatever the "
+                    "basis size (README). Not with Local compliance = both, which stands for the same "
+                    "compliance [-].", "true|false"),
       Spec::positive("Interface/Housing Young's modulus", "2.08e11",
                      "E of the rigid housing's material, for its local compliance [Pa]."),
       Spec::real_range("Interface/Housing Poisson ratio", "0.3", "nu of the housing's material [-].", 0.0, 0.5,
@@ -389,6 +397,11 @@ namespace fretsim::scenes
                         ring_material.youngs_modulus;
         interface.local_compliance_modulus = 1.0 / compliance;
       }
+    s.ring_residual = par.get_bool("Interface/Ring residual flexibility");
+    if (s.ring_residual && s.local_compliance == "both")
+      par.reject("Interface/Ring residual flexibility",
+                 "false with Local compliance = both: the ring's half-space and its residual flexibility stand for "
+                 "the same local compliance");
     s.run.damping_ratio            = par.get_double("Ring/Damping ratio");
 
     auto &integrator                  = s.run.integrator;
@@ -464,6 +477,20 @@ namespace fretsim::scenes
     bool built = false;
     const reduction::ReducedModel model = load_or_build(s.ring_model, s.build_model, options.progress, parameters, built);
     auto ring = reduced_ring(model);
+    if (s.ring_residual)
+      {
+        if (model.residual.empty())
+          parameters.reject("Interface/Ring residual flexibility",
+                            "false, or a model file with the ring's residual flexibility: '" + s.ring_model.file +
+                              "' has none (a free ring reduced with a raceway, an interface grid and more than six "
+                              "characteristic constraint modes has)");
+        const double area = ring.interface_grid.cell_area();
+        ring.residual_pressure.resize(model.residual.traction[0].size());
+        for (std::size_t k = 0; k < ring.residual_pressure.size(); ++k)
+          ring.residual_pressure[k] = -area * model.residual.traction[0][k]; // outward u_r per N inward: inward per Pa
+        ring.residual_ball         = model.residual.ball;
+        ring.residual_column_angle = model.residual.column_angle;
+      }
     try
       {
         ring.check();

@@ -300,6 +300,55 @@ TEST(SurfaceConvolution, RowsAlongXGiveTheSameNumbersOnOneThreadAsOnTwo)
     }
 }
 
+TEST(SurfaceConvolution, RowPairKernelMatchesTheDenseSumOnTheClosedCircumference)
+{
+  // A kernel invariant along x only (the ring's residual compliance: rows
+  // across the width differ) against the dense sum written out here from the
+  // kernel itself, periodic in x (relative 1e-12: FFT round-off). Two paths:
+  // a kernel even in x (real spectra; the ring interface's shape, 360 x 16)
+  // and one that is not (complex), rows not symmetric (K(j, jj) != K(jj, j)).
+  // And a translation-invariant kernel written as row pairs gives the
+  // Toeplitz constructor's numbers.
+  const auto even = [](int di, int j, int jj) {
+    return std::exp(-0.05 * std::abs(di)) * (1.0 + 0.1 * j + 0.03 * jj * jj) / (1.0 + std::abs(j - jj));
+  };
+  const auto uneven = [](int di, int j, int jj) { return std::exp(-0.2 * std::abs(di + 1)) * (1.0 + j - 0.5 * jj) + 0.01 * di; };
+  const auto ring = SurfaceGrid::centred(360, 16, 2.0 * M_PI * 0.04, 0.018);
+  const auto odd  = SurfaceGrid::centred(24, 7, 1.0, 1.0);
+  for (const auto &[grid, kernel] :
+       {std::pair<SurfaceGrid, RowPairInfluenceFunction>{ring, even}, {odd, uneven}})
+    {
+      // K(di ± nx) = K(di): the nearest image's offset
+      const auto periodic = [&, g = grid, k = kernel](int di, int j, int jj) {
+        di = ((di % g.nx) + g.nx) % g.nx;
+        return k(di > g.nx / 2 ? di - g.nx : di, j, jj);
+      };
+      const SurfaceConvolution convolution(grid, periodic);
+      const Field              load = random_field(grid, 7);
+      Field                    fast, direct(grid.size(), 0.0);
+      convolution.apply(load, fast);
+      for (int j = 0; j < grid.ny; ++j)
+        for (int i = 0; i < grid.nx; ++i)
+          for (int jj = 0; jj < grid.ny; ++jj)
+            for (int ii = 0; ii < grid.nx; ++ii)
+              direct[grid.index(i, j)] += periodic(i - ii, j, jj) * load[grid.index(ii, jj)];
+      EXPECT_LE(max_abs_difference(fast, direct), 1e-12 * max_abs(direct));
+    }
+  const auto love = [&](int di, int dj) {
+    di = ((di % ring.nx) + ring.nx) % ring.nx;
+    if (di > ring.nx / 2)
+      di -= ring.nx;
+    return influence::normal_displacement(di * ring.hx, dj * ring.hy, ring.hx, ring.hy, 1.1e11);
+  };
+  const SurfaceConvolution toeplitz(ring, love, true, SurfaceConvolution::Method::rows_along_x);
+  const SurfaceConvolution pairs(ring, RowPairInfluenceFunction([&](int di, int j, int jj) { return love(di, j - jj); }));
+  const Field load = random_field(ring, 11);
+  Field       by_offsets, by_pairs;
+  toeplitz.apply(load, by_offsets);
+  pairs.apply(load, by_pairs);
+  EXPECT_LE(max_abs_difference(by_offsets, by_pairs), 1e-13 * max_abs(by_offsets));
+}
+
 TEST(SurfaceConvolution, HertzDisplacementDiscretisationCheck)
 {
   // REFERENCES.md §6.3: Hertz pressure at cell centres on [-1.5a, 1.5a]^2,

@@ -237,3 +237,142 @@ TEST(LocalCompliance, TheInterfaceJacobianCarriesTheHalfSpacesSensitivity)
               jacobian_error(5, q, v, 1, 1e-6, evaluate, dv));
   EXPECT_GT(change / size, 0.5);
 }
+
+TEST(LocalCompliance, AStructuralComplianceAddsInSeriesWithTheHalfSpace)
+{
+  // The ring's residual flexibility enters as a structural compliance table
+  // ([load row][cell], invariant around the circumference). Given a second
+  // half-space's own influence coefficients (E'_2) as that table, the
+  // pressure must be that of one half-space with 1/E' = 1/E'_1 + 1/E'_2
+  // (Love's coefficients are linear in 1/E'), and the table alone (no
+  // half-space, modulus 0) that of E'_2: same approach, both to the solver's
+  // stopping gap (bound as in the seam test above).
+  const double radius = 0.04, first = 2.3e11, second = 1.1e11, layer = 1e17;
+  const auto   grid   = contact::SurfaceGrid::centred(120, 8, M_PI * radius, 0.009);
+  const auto   nearest = [&](int di) {
+    di = ((di % grid.nx) + grid.nx) % grid.nx;
+    return di > grid.nx / 2 ? di - grid.nx : di;
+  };
+  std::vector<double> table(grid.size() * grid.ny);
+  for (int jj = 0; jj < grid.ny; ++jj)
+    for (int j = 0; j < grid.ny; ++j)
+      for (int i = 0; i < grid.nx; ++i)
+        table[jj * grid.size() + grid.index(i, j)] =
+          contact::influence::normal_displacement(nearest(i) * grid.hx, (j - jj) * grid.hy, grid.hx, grid.hy, second);
+  LocalCompliance with_table(grid, first, layer, true, LocalCompliance::default_sensitivity_tolerance, table);
+  LocalCompliance combined(grid, 1.0 / (1.0 / first + 1.0 / second), layer, true);
+  LocalCompliance table_alone(grid, 0.0, layer, true, LocalCompliance::default_sensitivity_tolerance, table);
+  LocalCompliance second_alone(grid, second, layer, true);
+  EXPECT_LT(with_table.structural_asymmetry(), 1e-12); // Love's coefficients: symmetric and even
+  contact::Field penetration(grid.size());
+  for (int j = 0; j < grid.ny; ++j)
+    for (int i = 0; i < grid.nx; ++i)
+      penetration[grid.index(i, j)] = 1e-6 * (std::cos(grid.x(i) / radius) - 0.9) * (1.0 + 0.02 * j);
+  const auto solve = [&](LocalCompliance &compliance) {
+    contact::Field pressure(grid.size(), 0.0);
+    compliance.solve(penetration, pressure);
+    return pressure;
+  };
+  const auto difference = [](const contact::Field &a, const contact::Field &b) {
+    double worst = 0.0;
+    for (std::size_t c = 0; c < a.size(); ++c)
+      worst = std::max(worst, std::abs(a[c] - b[c]));
+    return worst / largest(b);
+  };
+  const contact::Field reference = solve(combined), softer = solve(second_alone);
+  EXPECT_LT(difference(solve(with_table), reference), 1e-4);
+  EXPECT_LT(difference(solve(table_alone), softer), 1e-4);
+  EXPECT_GT(largest(softer) / largest(reference), 1.2); // the table matters
+
+  // A table that is neither symmetric nor even is averaged, and says so.
+  table[grid.index(1, 0)] *= 1.5;
+  const LocalCompliance skewed(grid, first, layer, true, LocalCompliance::default_sensitivity_tolerance, table);
+  EXPECT_GT(skewed.structural_asymmetry(), 0.05);
+  EXPECT_THROW(LocalCompliance(grid, 0.0, layer, true), std::invalid_argument);
+}
+
+TEST(LocalCompliance, TheInterfaceJacobianCarriesTheRingsResidualFlexibility)
+{
+  // The same check as above with the ring's residual flexibility in series
+  // (a second half-space's coefficients as its table) and a ball's residual
+  // displacement of the interface (a bump under the ball, set per ball load:
+  // constant in q, so the Jacobian is still exact). The ball's bump must
+  // raise the force pushing the ring in, in proportion to its load.
+  auto ring = synthetic::random_ring(5, 36, 3, 7);
+  const auto &grid    = ring.interface_grid;
+  const auto  nearest = [&](int di) {
+    di = ((di % grid.nx) + grid.nx) % grid.nx;
+    return di > grid.nx / 2 ? di - grid.nx : di;
+  };
+  ring.residual_pressure.resize(grid.size() * grid.ny);
+  ring.residual_ball.resize(grid.size());
+  for (int jj = 0; jj < grid.ny; ++jj)
+    for (int j = 0; j < grid.ny; ++j)
+      for (int i = 0; i < grid.nx; ++i)
+        ring.residual_pressure[jj * grid.size() + grid.index(i, j)] =
+          contact::influence::normal_displacement(nearest(i) * grid.hx, (j - jj) * grid.hy, grid.hx, grid.hy, 4e11);
+  for (int j = 0; j < grid.ny; ++j)
+    for (int i = 0; i < grid.nx; ++i)
+      ring.residual_ball[grid.index(i, j)] = 1e-12 * std::exp(-0.5 * nearest(i) * nearest(i)); // m/N
+  ring.residual_column_angle = grid.x(0) / ring.interface_radius;
+  InterfaceSettings settings;
+  settings.normal_stiffness         = 1e15;
+  settings.tangential_stiffness     = 2e15;
+  settings.friction_coefficient     = 10.0;
+  settings.normal_damping_time      = 1e-6;
+  settings.radial_interference      = 5e-9;
+  settings.local_compliance_modulus = 2.3e11;
+  settings.sensitivity_tolerance    = 1e-4;
+  InterfaceContact    contact(ring, settings);
+  std::vector<double> q0(5), v(5);
+  for (std::size_t j = 0; j < 5; ++j)
+    {
+      q0[j] = 1e-10 * std::cos(1.3 * j);
+      v[j]  = 1e-7 * std::sin(0.7 * j);
+    }
+  const std::vector<double> angles{0.3, 2.0}, loads{1000.0, 2000.0};
+  contact.set_ball_loads(angles, loads);
+  contact.accept(q0.data(), v.data());
+  auto q = q0;
+  for (std::size_t j = 0; j < q.size(); ++j)
+    q[j] += 0.02e-9 * std::cos(3.0 * j);
+  std::vector<double> f(5, 0.0), dq(25, 0.0), dv(25, 0.0);
+  contact.add_forces(q.data(), v.data(), {f.data(), dq.data(), dv.data()});
+  ASSERT_GT(contact.contact_fraction(), 0.99);
+  const auto evaluate = [&](const std::vector<double> &qq, const std::vector<double> &vv) {
+    std::vector<double> out(5, 0.0);
+    contact.add_forces(qq.data(), vv.data(), {out.data(), nullptr, nullptr});
+    return out;
+  };
+  // Tolerance as in the test above (the same steps, noise and CG stop).
+  EXPECT_LT(jacobian_error(5, q, v, 0, 1e-12, evaluate, dq), 2e-3);
+  EXPECT_LT(jacobian_error(5, q, v, 1, 1e-6, evaluate, dv), 2e-3);
+  // The interface load grows with the balls' bumps (1-2 nm on a 5 nm fit),
+  // linearly while every cell stays loaded: to the solver's stopping gap,
+  // 1e-7 of the penetration against a 4 % change.
+  const auto total_pressure = [&](const std::vector<double> &ball_loads) {
+    contact.set_ball_loads(angles, ball_loads);
+    contact.accept(q.data(), v.data());
+    EXPECT_EQ(contact.contact_fraction(), 1.0);
+    return std::accumulate(contact.pressure().begin(), contact.pressure().end(), 0.0);
+  };
+  const double without = total_pressure({0.0, 0.0}), with_balls = total_pressure(loads),
+               more    = total_pressure({1500.0, 3000.0});
+  EXPECT_GT(with_balls - without, 0.02 * without);
+  EXPECT_NEAR((more - without) / (with_balls - without), 1.5, 1e-4);
+  // One ball over column 10 raises the pressure most in column 10.
+  contact.set_ball_loads({grid.x(10) / ring.interface_radius}, {2000.0});
+  contact.accept(q.data(), v.data());
+  const contact::Field with_one = contact.pressure();
+  contact.set_ball_loads({}, {});
+  contact.accept(q.data(), v.data());
+  int    top  = -1;
+  double rise = 0.0;
+  for (int i = 0; i < grid.nx; ++i)
+    if (const double d = with_one[grid.index(i, 1)] - contact.pressure()[grid.index(i, 1)]; d > rise)
+      {
+        rise = d;
+        top  = i;
+      }
+  EXPECT_EQ(top, 10);
+}

@@ -9,6 +9,9 @@ namespace fretsim::contact
   /// Influence coefficient K(di, dj): response at a cell centre to a unit
   /// uniform load on a cell offset by (di, dj) cells (di = i_field - i_load).
   using InfluenceFunction = std::function<double(int di, int dj)>;
+  /// Influence coefficient K(di; j, jj) translation invariant in x only:
+  /// response in row j to a unit load in row jj, di cells apart in x.
+  using RowPairInfluenceFunction = std::function<double(int di, int field_row, int load_row)>;
 
   /// Linear (non-periodic) discrete convolution w_i = sum_j K(i - j) u_j on a
   /// SurfaceGrid, evaluated with DC-FFT (Liu, Wang & Liu, Wear 243, 2000):
@@ -33,6 +36,10 @@ namespace fretsim::contact
 
     SurfaceConvolution(const SurfaceGrid &grid, const InfluenceFunction &kernel, bool periodic_x = false,
                        Method method = Method::automatic);
+    /// A kernel invariant along x only (a structure's compliance on the
+    /// closed circumference, whose rows differ across the width): periodic in
+    /// x and rows_along_x, ny² kernel rows; K(di ± nx; j, jj) = K(di; j, jj).
+    SurfaceConvolution(const SurfaceGrid &grid, const RowPairInfluenceFunction &kernel);
     ~SurfaceConvolution();
     SurfaceConvolution(SurfaceConvolution &&) noexcept;
     SurfaceConvolution &operator=(SurfaceConvolution &&) noexcept;

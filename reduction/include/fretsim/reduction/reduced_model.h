@@ -18,6 +18,7 @@
 #include <fretsim/fem/surface_grid_map.h>
 #include <fretsim/reduction/craig_bampton.h>
 
+#include <array>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -51,6 +52,25 @@ namespace fretsim::reduction
     double contact_angle             = 0.0; ///< [rad]
   };
 
+  /// The part of the body's static compliance the basis misses, MacNeal's
+  /// residual flexibility R = K⁻¹ − T K_r⁻¹ Tᵀ (both with inertia relief),
+  /// as u_r on the interface grid, taken circulant in θ on the axisymmetric
+  /// ring: per unit force on the cells of the grid's first column (column
+  /// angle), and per unit ball load at that angle. Empty if not computed.
+  struct ResidualFlexibility
+  {
+    double column_angle = 0.0; ///< θ of the grid's first column [rad]
+    /// [component][load row jj][cell] outward u_r per N of the traction
+    /// component on cell (0, jj): 0 pressure (the force pushes inward),
+    /// 1 circumferential, 2 axial; a component may be empty [m/N].
+    std::array<std::vector<double>, 3> traction;
+    std::vector<double>                ball; ///< [cell] outward u_r per N of a ball at column_angle [m/N]
+    /// Full and reduced solves it took, and their wall time [s].
+    unsigned int solves  = 0;
+    double       seconds = 0.0;
+    bool         empty() const { return ball.empty(); }
+  };
+
   struct ReducedModel
   {
     ReducedMatrices     matrices;
@@ -58,6 +78,7 @@ namespace fretsim::reduction
     GridOperators       interface_grid;       ///< empty grid (nx = 0) if none was asked for
     PointOperators      sample_points;
     RacewayOperators    raceway;              ///< empty angles if none was asked for (or an older file)
+    ResidualFlexibility residual;             ///< empty if not computed (a housing, or no raceway)
     ReductionTimings    timings;
     /// What the model was made from: mesh, material, boundary ids, mode
     /// counts, program version (written as string attributes).

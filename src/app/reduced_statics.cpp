@@ -1,0 +1,240 @@
+#include "app/reduced_statics.h"
+
+#include <fretsim/fem/shifted_static_solver.h>
+#include <fretsim/fem/surface_grid_map.h>
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace fretsim::app
+{
+
+  
+  namespace
+  {
+  /// Rows of a row-major [items][n_full] operator, restricted to `columns`.
+  std::vector<double> restrict_columns(const std::vector<double> &op, std::size_t n_full,
+                                       const std::vector<std::size_t> &columns)
+  {
+    const std::size_t   rows = n_full == 0 ? 0 : op.size() / n_full;
+    std::vector<double> result(rows * columns.size());
+    for (std::size_t r = 0; r < rows; ++r)
+      for (std::size_t c = 0; c < columns.size(); ++c)
+        result[r * columns.size() + c] = op[r * n_full + columns[c]];
+    return result;
+  }
+
+  } // namespace
+
+  Truncation truncate(const reduction::ReducedModel &model, unsigned int fixed_interface, unsigned int constraint,
+                      const std::vector<std::size_t> &raceway_points, double sigma)
+  {
+    const auto       &m      = model.matrices;
+    const std::size_t n_full = m.size();
+    std::vector<std::size_t> columns;
+    for (unsigned int j = 0; j < constraint; ++j)
+      columns.push_back(j);
+    for (unsigned int j = 0; j < fixed_interface; ++j)
+      columns.push_back(m.n_constraint + j);
+    Truncation t;
+    t.fixed_interface = fixed_interface;
+    t.constraint      = constraint;
+    t.n               = columns.size();
+    t.whole_model     = fixed_interface == m.n_modal && constraint == m.n_constraint;
+    t.shifted.resize(t.n * t.n);
+    for (std::size_t a = 0; a < t.n; ++a)
+      for (std::size_t b = 0; b < t.n; ++b)
+        {
+          const std::size_t k = columns[a] * n_full + columns[b];
+          t.shifted[a * t.n + b] = m.stiffness[k] - sigma * m.mass[k];
+        }
+    t.grid_displacement = restrict_columns(model.interface_grid.displacement, n_full, columns);
+    t.grid_stress       = restrict_columns(model.interface_grid.stress, n_full, columns);
+    std::vector<double> race;
+    for (const std::size_t p : raceway_points)
+      race.insert(race.end(), model.sample_points.stress.begin() + p * 6 * n_full,
+                  model.sample_points.stress.begin() + (p + 1) * 6 * n_full);
+    t.raceway_stress = restrict_columns(race, n_full, columns);
+    t.approach       = restrict_columns(model.raceway.approach, n_full, columns);
+    t.n_angles       = model.raceway.angles.size();
+    t.mass_rigid.resize(t.n * rigid_modes);
+    t.rigid_factor.resize(rigid_modes * rigid_modes);
+    for (std::size_t a = 0; a < t.n; ++a)
+      for (std::size_t r = 0; r < rigid_modes; ++r)
+        t.mass_rigid[a * rigid_modes + r] = m.mass[columns[a] * n_full + r];
+    for (std::size_t r = 0; r < rigid_modes; ++r)
+      for (std::size_t c = 0; c < rigid_modes; ++c)
+        t.rigid_factor[r * rigid_modes + c] = m.mass[r * n_full + c];
+    cholesky(t.rigid_factor, rigid_modes);
+    return t;
+  }
+
+  void cholesky(std::vector<double> &a, std::size_t n)
+  {
+    for (std::size_t j = 0; j < n; ++j)
+      {
+        double d = a[j * n + j];
+        for (std::size_t k = 0; k < j; ++k)
+          d -= a[j * n + k] * a[j * n + k];
+        if (!(d > 0.0))
+          throw std::runtime_error("reduced static solve: K_r - sigma M_r is not positive definite (coordinate " +
+                                   std::to_string(j) + ")");
+        a[j * n + j] = std::sqrt(d);
+        for (std::size_t i = j + 1; i < n; ++i)
+          {
+            double s = a[i * n + j];
+            for (std::size_t k = 0; k < j; ++k)
+              s -= a[i * n + k] * a[j * n + k];
+            a[i * n + j] = s / a[j * n + j];
+          }
+      }
+  }
+
+  std::vector<double> cholesky_solve(const std::vector<double> &l, std::size_t n, std::vector<double> b)
+  {
+    for (std::size_t i = 0; i < n; ++i)
+      {
+        for (std::size_t k = 0; k < i; ++k)
+          b[i] -= l[i * n + k] * b[k];
+        b[i] /= l[i * n + i];
+      }
+    for (std::size_t i = n; i-- > 0;)
+      {
+        for (std::size_t k = i + 1; k < n; ++k)
+          b[i] -= l[k * n + i] * b[k];
+        b[i] /= l[i * n + i];
+      }
+    return b;
+  }
+
+  namespace
+  {
+  /// Inertia relief of a generalised load, g - M_r R (Rᵀ M_r R)⁻¹ Rᵀ g (Rᵀ g
+  /// is g's first six entries): the reduced counterpart of the full model's
+  /// f - M Φ Φᵀ f (fem/shifted_static_solver.h).
+  void relieve(const Truncation &t, std::vector<double> &g)
+  {
+    const std::vector<double> a = cholesky_solve(t.rigid_factor, rigid_modes, std::vector<double>(g.begin(), g.begin() + rigid_modes));
+    for (std::size_t j = 0; j < t.n; ++j)
+      for (std::size_t r = 0; r < rigid_modes; ++r)
+        g[j] -= t.mass_rigid[j * rigid_modes + r] * a[r];
+  }
+
+  } // namespace
+
+  // M_r-orthogonal to every rigid motion, as the relieved solutions are.
+  void remove_rigid_motion(const Truncation &t, std::vector<double> &q)
+  {
+    std::vector<double> c(rigid_modes, 0.0);
+    for (std::size_t j = 0; j < t.n; ++j)
+      for (std::size_t r = 0; r < rigid_modes; ++r)
+        c[r] += t.mass_rigid[j * rigid_modes + r] * q[j];
+    const std::vector<double> a = cholesky_solve(t.rigid_factor, rigid_modes, c);
+    for (std::size_t r = 0; r < rigid_modes; ++r)
+      q[r] -= a[r];
+  }
+
+  std::vector<double> apply(const std::vector<double> &op, std::size_t n, const std::vector<double> &q)
+  {
+    const std::size_t   rows = n == 0 ? 0 : op.size() / n;
+    std::vector<double> y(rows, 0.0);
+    for (std::size_t r = 0; r < rows; ++r)
+      {
+        const double *row = op.data() + r * n;
+        double        s   = 0.0;
+        for (std::size_t j = 0; j < n; ++j)
+          s += row[j] * q[j];
+        y[r] = s;
+      }
+    return y;
+  }
+
+  void add_ball_row(const Truncation &t, double angle, double factor, std::vector<double> &row)
+  {
+    const double spacing  = 2.0 * M_PI / static_cast<double>(t.n_angles);
+    double       position = std::fmod(angle, 2.0 * M_PI);
+    if (position < 0.0)
+      position += 2.0 * M_PI;
+    const double      scaled = position / spacing;
+    const std::size_t k0     = static_cast<std::size_t>(scaled) % t.n_angles, k1 = (k0 + 1) % t.n_angles;
+    const double      w      = scaled - std::floor(scaled);
+    for (std::size_t j = 0; j < t.n; ++j)
+      row[j] += factor * ((1.0 - w) * t.approach[k0 * t.n + j] + w * t.approach[k1 * t.n + j]);
+  }
+
+
+  bool starts_with_rigid_motions(const reduction::ReducedMatrices &matrices)
+  {
+    const auto  &f      = matrices.interface_frequencies_hz;
+    const double cutoff = fem::ModalSettings{}.rigid_body_cutoff_hz;
+    return f.size() > rigid_modes && f[rigid_modes - 1] < cutoff && f[rigid_modes] >= cutoff;
+  }
+
+  Truncation whole_model(const reduction::ReducedModel &model, double sigma)
+  {
+    return truncate(model, model.matrices.n_modal, model.matrices.n_constraint, {}, sigma);
+  }
+
+  std::vector<double> relieved_static(const Truncation &t, std::vector<double> g)
+  {
+    relieve(t, g);
+    std::vector<double> factor = t.shifted;
+    cholesky(factor, t.n);
+    std::vector<double> q = cholesky_solve(factor, t.n, g);
+    remove_rigid_motion(t, q); // none in exact arithmetic; the round-off 1/|σ| amplifies
+    return q;
+  }
+
+  reduction::ResidualFlexibility residual_flexibility(fem::ShiftedStaticSolver &solver, const fem::SurfaceGridMap &map,
+                                                      const Truncation &whole, const fem::CylinderGrid &grid,
+                                                      const std::function<fem::RacewayBallLoad(double, double)> &ball,
+                                                      int components)
+  {
+    const auto                     start = std::chrono::steady_clock::now();
+    reduction::ResidualFlexibility residual;
+    residual.column_angle = grid.x(0) / grid.radius;
+    const double area     = grid.cell_area();
+    // u_r of the full FE solution minus the reduced model's, per cell.
+    const auto difference = [&](const fem::StaticLoad &load, const std::vector<double> &generalised) {
+      std::vector<double>       u_r     = map.interpolate(solver.solve(load)).u_r;
+      const std::vector<double> q       = relieved_static(whole, generalised);
+      const std::vector<double> reduced = apply(whole.grid_displacement, whole.n, q); // [cell][3]
+      for (std::size_t c = 0; c < u_r.size(); ++c)
+        u_r[c] -= reduced[3 * c];
+      ++residual.solves;
+      return u_r;
+    };
+    fem::GridTractions unit;
+    for (auto *field : {&unit.pressure, &unit.shear_x, &unit.shear_y})
+      field->assign(grid.size(), 0.0);
+    for (int k = 0; k < components; ++k)
+      {
+        auto &field = k == 0 ? unit.pressure : k == 1 ? unit.shear_x : unit.shear_y;
+        for (int j = 0; j < grid.ny; ++j)
+          {
+            const std::size_t cell = static_cast<std::size_t>(j) * grid.nx; // (0, j)
+            field[cell]            = 1.0 / area; // 1 N on the cell
+            fem::StaticLoad load;
+            load.grid_tractions.push_back({&map, &unit});
+            // Tᵀ f of that force: the cell's row of the component (pressure pushes in)
+            std::vector<double> g(whole.grid_displacement.begin() + static_cast<std::ptrdiff_t>((3 * cell + k) * whole.n),
+                                  whole.grid_displacement.begin() + static_cast<std::ptrdiff_t>((3 * cell + k + 1) * whole.n));
+            if (k == 0)
+              for (double &value : g)
+                value = -value;
+            const std::vector<double> column = difference(load, g);
+            residual.traction[k].insert(residual.traction[k].end(), column.begin(), column.end());
+            field[cell] = 0.0;
+          }
+      }
+    fem::StaticLoad load;
+    load.ball_loads.push_back(ball(residual.column_angle, 1.0));
+    std::vector<double> g(whole.n, 0.0);
+    add_ball_row(whole, residual.column_angle, 1.0, g);
+    residual.ball    = difference(load, g);
+    residual.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return residual;
+  }
+} // namespace fretsim::app

@@ -1,0 +1,91 @@
+#pragma once
+// Static solves of a Craig–Bampton model from its file, with inertia relief
+// (the reduced counterpart of fem::ShiftedStaticSolver's), on the whole model
+// or a truncation of it; and MacNeal's residual flexibility of the basis,
+// which `reduce` stores for the co-simulation and `compare` checks against
+// the full FE. Internal to the program (app).
+#include <fretsim/fem/elastic_model.h>
+#include <fretsim/reduction/reduced_model.h>
+
+#include <cstddef>
+#include <functional>
+#include <vector>
+
+namespace fretsim::fem
+{
+  class ShiftedStaticSolver;
+  class SurfaceGridMap;
+} // namespace fretsim::fem
+
+namespace fretsim::app
+{
+  /// The rigid-body motions of a free body: the model's first six
+  /// constraint coordinates.
+  constexpr std::size_t rigid_modes = 6;
+
+  /// Whether the model's first six constraint coordinates are the rigid-body
+  /// motions (a free ring reduced with more than six characteristic
+  /// constraint modes: Guyan eigenvalue 0, below fem::ModalSettings' rigid-body
+  /// cutoff), which inertia relief needs.
+  bool starts_with_rigid_motions(const reduction::ReducedMatrices &matrices);
+
+  /// The model restricted to the coordinates of one truncation (m', n_cc'):
+  /// the sub-blocks of K_r and M_r and the matching operator columns.
+  struct Truncation
+  {
+    unsigned int        fixed_interface = 0, constraint = 0;
+    std::size_t         n = 0;
+    bool                whole_model = false;
+    std::vector<double> shifted;           ///< K_r - σ M_r, n × n
+    std::vector<double> grid_displacement; ///< [cell][3][n]
+    std::vector<double> grid_stress;       ///< [cell][6][n]
+    std::vector<double> raceway_stress;    ///< [raceway point][6][n]
+    std::vector<double> approach;          ///< [angle][n]
+    std::size_t         n_angles = 0;
+    /// Inertia relief: the first six constraint coordinates are the
+    /// rigid-body motions R; M_r R [n][6] and the factor of Rᵀ M_r R [6][6].
+    std::vector<double> mass_rigid, rigid_factor;
+  };
+
+  /// The coordinates of the first `constraint` constraint modes and the first
+  /// `fixed_interface` fixed-interface modes; σ the static shift [rad²/s²]
+  /// (negative); `raceway_points`: sample points whose stress rows to keep.
+  Truncation truncate(const reduction::ReducedModel &model, unsigned int fixed_interface, unsigned int constraint,
+                      const std::vector<std::size_t> &raceway_points, double sigma);
+  /// The whole model, without raceway sample points.
+  Truncation whole_model(const reduction::ReducedModel &model, double sigma);
+
+  /// In-place Cholesky factor (lower) of a symmetric positive definite
+  /// row-major matrix, and the solve with it. Throws std::runtime_error if
+  /// the matrix is not positive definite.
+  void                cholesky(std::vector<double> &a, std::size_t n);
+  std::vector<double> cholesky_solve(const std::vector<double> &l, std::size_t n, std::vector<double> b);
+
+  /// q = (K_r - σM_r)⁻¹ g_e, g_e the inertia-relieved generalised load g,
+  /// without rigid-body motion (M_r-orthogonal to it).
+  std::vector<double> relieved_static(const Truncation &t, std::vector<double> g);
+
+  /// q without its rigid-body motion: q - R (Rᵀ M_r R)⁻¹ Rᵀ M_r q.
+  void remove_rigid_motion(const Truncation &t, std::vector<double> &q);
+
+  /// y = A q for a row-major [rows][n] operator.
+  std::vector<double> apply(const std::vector<double> &op, std::size_t n, const std::vector<double> &q);
+
+  /// row += factor r(ψ), r interpolated linearly between the stored
+  /// positions ψ_k = 2πk/n with the co-simulation's weights
+  /// (coupling/ring_coupling.cpp).
+  void add_ball_row(const Truncation &t, double angle, double factor, std::vector<double> &row);
+
+  /// MacNeal's residual flexibility of the model's basis on its interface
+  /// grid (reduction::ResidualFlexibility): unit forces of the first
+  /// `components` traction components (1: pressure only; 3: all) on each cell
+  /// of the grid's first column, and a unit ball at its angle (`ball(angle,
+  /// force)` the raceway patch the model's operator was made with), each
+  /// solved by the full FE (`solver`, with inertia relief, sampled by `map`)
+  /// and by the whole model; R is the difference. Collective.
+  reduction::ResidualFlexibility residual_flexibility(fem::ShiftedStaticSolver &solver,
+                                                      const fem::SurfaceGridMap &map, const Truncation &whole,
+                                                      const fem::CylinderGrid &grid,
+                                                      const std::function<fem::RacewayBallLoad(double, double)> &ball,
+                                                      int components);
+} // namespace fretsim::app

@@ -1,5 +1,6 @@
 #include <fretsim/contact/convolution.h>
 
+#include <Eigen/Dense>
 #include <fftw3.h>
 #include <omp.h>
 
@@ -519,6 +520,56 @@ namespace fretsim::contact
     // fftw_execute_dft_* with new arrays requires the same alignment as the
     // planning arrays, which fftw_alloc_* guarantees.
     d.convolve(load, result, d.allocate_workspace());
+  }
+
+  SurfaceConvolution SurfaceConvolution::inverse(double shift) const
+  {
+    const Impl &d = *impl;
+    if (!d.direct_rows || d.padded_nx != d.grid.nx)
+      throw std::logic_error("SurfaceConvolution::inverse: only for a convolution closed in x, by rows");
+    const int nx = d.grid.nx, ny = d.grid.ny, frequencies = d.spectrum_nx;
+    // K's spectrum as applied (the stored spectra carry FFTW's 1/nx).
+    const auto spectrum = [&](int row, int k) -> std::complex<double> {
+      const std::size_t at = static_cast<std::size_t>(row) * frequencies + k;
+      return static_cast<double>(nx) * (d.real_rows ? std::complex<double>(d.real_row_spectrum[2 * at], 0.0)
+                                                     : d.kernel_spectrum[at]);
+    };
+    // The inverse's spectrum per frequency, [pair][frequency].
+    std::vector<std::complex<double>> inverse_spectrum(static_cast<std::size_t>(ny) * ny * frequencies);
+    Eigen::MatrixXcd                  block(ny, ny);
+    for (int k = 0; k < frequencies; ++k)
+      {
+        for (int j = 0; j < ny; ++j)
+          for (int jj = 0; jj < ny; ++jj)
+            block(j, jj) = spectrum(d.pair(j, jj), k) + (j == jj ? shift : 0.0);
+        const Eigen::FullPivLU<Eigen::MatrixXcd> lu(block);
+        if (!lu.isInvertible())
+          throw std::runtime_error("SurfaceConvolution::inverse: a frequency's block is singular");
+        const Eigen::MatrixXcd inverse = lu.inverse();
+        for (int j = 0; j < ny; ++j)
+          for (int jj = 0; jj < ny; ++jj)
+            inverse_spectrum[(static_cast<std::size_t>(j) * ny + jj) * frequencies + k] = inverse(j, jj);
+      }
+    // Back to offsets: the real signal of a half spectrum (X[nx - k] =
+    // conj X[k]), x[n] = (1/nx) Σ_k X[k] e^{2πikn/nx}.
+    std::vector<double> table(static_cast<std::size_t>(ny) * ny * nx);
+    for (std::size_t pair = 0; pair < static_cast<std::size_t>(ny) * ny; ++pair)
+      for (int n = 0; n < nx; ++n)
+        {
+          double sum = 0.0;
+          for (int k = 0; k < frequencies; ++k)
+            {
+              const bool   mirrored = k > 0 && 2 * k != nx; // its conjugate at nx - k is not stored
+              const double phase    = 2.0 * M_PI * static_cast<double>((static_cast<long>(k) * n) % nx) / nx;
+              const auto  &value    = inverse_spectrum[pair * frequencies + k];
+              sum += (mirrored ? 2.0 : 1.0) * (value.real() * std::cos(phase) - value.imag() * std::sin(phase));
+            }
+          table[pair * nx + n] = sum / nx;
+        }
+    return SurfaceConvolution(d.grid, RowPairInfluenceFunction([nx, ny, table = std::move(table)](int di, int j, int jj) {
+                                const int wrapped = ((di % nx) + nx) % nx;
+                                return table[(static_cast<std::size_t>(j) * ny + jj) * nx + wrapped];
+                              }));
   }
 
   void SurfaceConvolution::apply_direct(const Field &load, Field &result) const

@@ -238,6 +238,11 @@ namespace fretsim::app
       double full_contact = not_measured, reduced_contact = not_measured; ///< contact fractions
       double full_iterations = not_measured, reduced_iterations = not_measured; ///< linear solves
       double full_seconds = not_measured, reduced_seconds = not_measured;
+      /// The whole model with its residual flexibility in series on the
+      /// same layer (winkler_with_residual: what the run solves): peak,
+      /// errors against the full FE as above, Newton iterations, time.
+      double residual_peak = not_measured, residual_error_max = not_measured, residual_error_l2 = not_measured;
+      double residual_contact = not_measured, residual_iterations = not_measured, residual_seconds = not_measured;
     };
 
     /// max |a - b| / max |b| and ‖a - b‖₂ / ‖b‖₂ (NaN if b is zero or empty).
@@ -584,7 +589,9 @@ namespace fretsim::app
              "winkler_full_contact_fraction,winkler_reduced_contact_fraction,winkler_full_iterations,"
              "winkler_reduced_iterations,winkler_full_s,winkler_reduced_s,winkler_run_error_pressure_max,"
              "winkler_run_error_pressure_l2,winkler_run_vs_reduced_error_pressure_max,"
-             "error_u_r_with_residual,error_u_r_balls_with_residual\n";
+             "error_u_r_with_residual,error_u_r_balls_with_residual,winkler_with_residual_peak_pressure_Pa,"
+             "winkler_with_residual_error_pressure_max,winkler_with_residual_error_pressure_l2,"
+             "winkler_with_residual_contact_fraction,winkler_with_residual_iterations,winkler_with_residual_s\n";
       csv << std::setprecision(10);
       for (const Row &r : rows)
         {
@@ -607,7 +614,8 @@ namespace fretsim::app
                                  w.error_l2, w.full_contact, w.reduced_contact, w.full_iterations,
                                  w.reduced_iterations, w.full_seconds, w.reduced_seconds, w.run_error_max,
                                  w.run_error_l2, w.run_vs_reduced_max, r.error_u_r_residual,
-                                 r.error_u_r_residual_balls})
+                                 r.error_u_r_residual_balls, w.residual_peak, w.residual_error_max,
+                                 w.residual_error_l2, w.residual_contact, w.residual_iterations, w.residual_seconds})
             csv << ',' << v;
           csv << '\n';
         }
@@ -1056,6 +1064,18 @@ namespace fretsim::app
                   winkler_notes.push_back(where(views[v]) + error.what());
                 }
             }
+          std::optional<ResidualWinklerSolution> residual_winkler;
+          if (!residual.empty())
+            try
+              {
+                residual_winkler = winkler_with_residual(*whole, residual, grid, layer.normal_stiffness,
+                                                         layer.radial_interference, instant.ball_angles,
+                                                         instant.ball_loads);
+              }
+            catch (const std::runtime_error &error)
+              {
+                winkler_notes.push_back("instant " + std::to_string(i) + ", the model with R: " + error.what());
+              }
           std::unique_ptr<fem::WinklerGridSolution> full_winkler;
           {
             fem::StaticLoad balls;
@@ -1152,6 +1172,16 @@ namespace fretsim::app
                     if (view.whole_model && run_on_layer)
                       w.run_vs_reduced_max = field_errors(instant.tractions.pressure, reduced_p->pressure).first;
                   }
+                if (view.whole_model && residual_winkler)
+                  {
+                    w.residual_peak       = residual_winkler->peak();
+                    w.residual_contact    = residual_winkler->contact_fraction();
+                    w.residual_iterations = residual_winkler->iterations;
+                    w.residual_seconds    = residual_winkler->seconds;
+                    if (full_winkler)
+                      std::tie(w.residual_error_max, w.residual_error_l2) =
+                        field_errors(residual_winkler->pressure, full_winkler->pressure);
+                  }
               }
               if (view.whole_model && !instant.run_q.empty())
                 {
@@ -1245,6 +1275,23 @@ namespace fretsim::app
               << ' ' << sci(w.run_error_l2) << "    " << sci(w.run_vs_reduced_max) << "\n"
               << std::defaultfloat;
         }
+    if (std::any_of(rows.begin(), rows.end(), [](const Row &r) { return !std::isnan(r.winkler.residual_peak); }))
+      {
+        out << "the same with the model's residual flexibility in series (R = K^-1 - T K_r^-1 T^T, what the run "
+               "solves with Interface/Ring residual flexibility):\n"
+               "  inst  p_max full  model+R [MPa]  p err max   p err L2  contact model+R  Newton    [s]\n";
+        for (const Row &r : rows)
+          if (r.whole_model)
+            {
+              const auto &w = r.winkler;
+              out << std::setw(6) << r.instant << std::fixed << std::setprecision(2) << std::setw(11)
+                  << 1e-6 * w.full_peak << std::setw(15) << 1e-6 * w.residual_peak << ' ' << sci(w.residual_error_max)
+                  << ' ' << sci(w.residual_error_l2) << std::setprecision(4) << std::setw(17) << w.residual_contact
+                  << std::setprecision(0) << std::setw(8) << w.residual_iterations << std::setprecision(2)
+                  << std::setw(7) << w.residual_seconds << "\n"
+                  << std::defaultfloat;
+            }
+      }
     for (const std::string &note : winkler_notes)
       out << "note: Winkler solve failed at " << note << "\n";
     if (!run_on_layer)

@@ -1,8 +1,13 @@
 #include "app/reduced_statics.h"
 
+#include "coupling/local_compliance.h"
+
 #include <fretsim/fem/shifted_static_solver.h>
 #include <fretsim/fem/surface_grid_map.h>
 
+#include <Eigen/Dense>
+
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -236,5 +241,91 @@ namespace fretsim::app
     residual.ball    = difference(load, g);
     residual.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return residual;
+  }
+
+  double ResidualWinklerSolution::peak() const
+  {
+    return pressure.empty() ? 0.0 : *std::max_element(pressure.begin(), pressure.end());
+  }
+
+  double ResidualWinklerSolution::contact_fraction() const
+  {
+    const auto loaded = std::count_if(pressure.begin(), pressure.end(), [](double p) { return p > 0.0; });
+    return pressure.empty() ? 0.0 : static_cast<double>(loaded) / static_cast<double>(pressure.size());
+  }
+
+  ResidualWinklerSolution winkler_with_residual(const Truncation &whole, const reduction::ResidualFlexibility &residual,
+                                                const fem::CylinderGrid &grid, double normal_stiffness, double fit,
+                                                const std::vector<double> &ball_angles,
+                                                const std::vector<double> &ball_loads)
+  {
+    const auto        start = std::chrono::steady_clock::now();
+    const std::size_t n = whole.n, cells = grid.size();
+    const double      area = grid.cell_area();
+    const contact::SurfaceGrid surface{grid.nx, grid.ny, grid.hx, grid.hy, grid.x_min, grid.y_min};
+    // R per unit pressure, inward (the table is outward u_r per N pushing in).
+    std::vector<double> compliance(residual.traction[0].size());
+    for (std::size_t k = 0; k < compliance.size(); ++k)
+      compliance[k] = -area * residual.traction[0][k];
+    coupling::LocalCompliance local(surface, 0.0, normal_stiffness, true, 1e-6, compliance);
+    // The balls: their generalised load, and their residual u_r under the
+    // layer (the table shifted to each ball, linear between columns).
+    std::vector<double> g(n, 0.0), ball_residual(cells, 0.0);
+    const double        angle_step = grid.hx / grid.radius;
+    for (std::size_t b = 0; b < ball_angles.size(); ++b)
+      {
+        add_ball_row(whole, ball_angles[b], ball_loads[b], g);
+        const double shift = std::remainder(ball_angles[b] - residual.column_angle, 2.0 * M_PI) / angle_step;
+        for (int j = 0; j < grid.ny; ++j)
+          for (int i = 0; i < grid.nx; ++i)
+            {
+              const double at = i - shift, lower = std::floor(at), fraction = at - lower;
+              const int    k0 = ((static_cast<int>(lower) % grid.nx) + grid.nx) % grid.nx, k1 = (k0 + 1) % grid.nx;
+              const auto   cell = [&](int column) { return static_cast<std::size_t>(j) * grid.nx + column; };
+              ball_residual[cell(i)] +=
+                ball_loads[b] * ((1.0 - fraction) * residual.ball[cell(k0)] + fraction * residual.ball[cell(k1)]);
+            }
+      }
+    using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    RowMatrix radial(cells, n); // the u_r rows
+    for (std::size_t c = 0; c < cells; ++c)
+      for (std::size_t j = 0; j < n; ++j)
+        radial(c, j) = whole.grid_displacement[(3 * c) * n + j];
+    const Eigen::Map<const RowMatrix> shifted(whole.shifted.data(), n, n);
+    const Eigen::Map<const Eigen::VectorXd> load(g.data(), n);
+    Eigen::VectorXd         q = Eigen::VectorXd::Zero(n);
+    ResidualWinklerSolution solution;
+    solution.pressure.assign(cells, 0.0);
+    contact::Field penetration(cells);
+    const double   scale = std::max(load.cwiseAbs().maxCoeff(), 1e-300);
+    for (int it = 0; it < 50; ++it)
+      {
+        const Eigen::VectorXd u_r = radial * q;
+        for (std::size_t c = 0; c < cells; ++c)
+          penetration[c] = fit + u_r[static_cast<Eigen::Index>(c)] + ball_residual[c];
+        local.solve(penetration, solution.pressure);
+        const Eigen::Map<const Eigen::VectorXd> p(solution.pressure.data(), static_cast<Eigen::Index>(cells));
+        const Eigen::VectorXd balance = shifted * q - load + area * (radial.transpose() * p);
+        solution.iterations = it;
+        if (balance.cwiseAbs().maxCoeff() <= 1e-6 * scale) // the pressure solve stops at 1e-7 of the penetration
+          break;
+        std::vector<std::size_t> loaded;
+        for (std::size_t c = 0; c < cells; ++c)
+          if (solution.pressure[c] > 0.0)
+            loaded.push_back(c);
+        RowMatrix rows(static_cast<Eigen::Index>(loaded.size()), n);
+        for (std::size_t a = 0; a < loaded.size(); ++a)
+          rows.row(static_cast<Eigen::Index>(a)) = radial.row(static_cast<Eigen::Index>(loaded[a]));
+        std::vector<double> sensitivity;
+        local.pressure_sensitivity(loaded, rows.data(), n, sensitivity);
+        const Eigen::Map<const RowMatrix> by_penetration(sensitivity.data(), static_cast<Eigen::Index>(loaded.size()),
+                                                         n);
+        const Eigen::MatrixXd jacobian = shifted + area * (rows.transpose() * by_penetration);
+        q -= jacobian.partialPivLu().solve(balance);
+        if (it == 49)
+          throw std::runtime_error("the reduced model with its residual flexibility did not converge on the layer");
+      }
+    solution.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return solution;
   }
 } // namespace fretsim::app

@@ -88,4 +88,24 @@ namespace fretsim::app
                                                       const fem::CylinderGrid &grid,
                                                       const std::function<fem::RacewayBallLoad(double, double)> &ball,
                                                       int components);
+  /// The whole model on a Winkler layer (stiffness k_n, interference
+  /// `fit`, the outward u_r rows of its interface operator) with its
+  /// residual flexibility in series (coupling::LocalCompliance) under the
+  /// generalised load g of balls at `ball_angles` with `ball_loads`, whose
+  /// residual u_r under the layer adds to the penetration: what the
+  /// co-simulation's interface solves, statically. Newton on q with the
+  /// pressure's sensitivity; stops when the force balance is within 1e-6 of
+  /// the load (the pressure solve's own stop is 1e-7 of the penetration).
+  struct ResidualWinklerSolution
+  {
+    std::vector<double> pressure; ///< [cell] [Pa]
+    int                 iterations = 0;
+    double              seconds    = 0.0;
+    double              peak() const;
+    double              contact_fraction() const;
+  };
+  ResidualWinklerSolution winkler_with_residual(const Truncation &whole, const reduction::ResidualFlexibility &residual,
+                                                const fem::CylinderGrid &grid, double normal_stiffness, double fit,
+                                                const std::vector<double> &ball_angles,
+                                                const std::vector<double> &ball_loads);
 } // namespace fretsim::app

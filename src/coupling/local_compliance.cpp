@@ -2,8 +2,11 @@
 
 #include <fretsim/contact/convolution.h>
 
+#include <Eigen/Dense>
+
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -14,11 +17,18 @@ namespace fretsim::coupling
     contact::SurfaceGrid        grid;
     double                      structural_asymmetry = 0.0; // (set while `compliance` is built)
     contact::SurfaceConvolution compliance;
+    /// On the closed circumference, (C + I/k_n)⁻¹ on the whole grid: the
+    /// conjugate gradients' preconditioner, restricted to the loaded cells
+    /// (Vollebregt, J. Comput. Phys. 257, 2014: an FFT preconditioner for
+    /// the bound-constrained contact problem). The ring's residual
+    /// flexibility is smooth and strong over long distances, which
+    /// unpreconditioned iterations resolve slowly.
+    std::optional<contact::SurfaceConvolution> preconditioner;
     double                      layer_compliance; ///< 1/k_n [m/Pa]
     double                      sensitivity_tolerance;
     double                      self = 0.0; ///< the largest diagonal entry of C [m/Pa]
     double                      uniform = 0.0; ///< the largest displacement under p = 1 everywhere [m/Pa]
-    contact::Field              response, gap, direction; // work arrays of solve()
+    contact::Field              response, gap, direction, masked, preconditioned; // work arrays of solve()
     Statistics                  statistics;
     /// The last sensitivity per grid cell and column: the next one's start,
     /// or the answer itself while the loaded cells stay nearly the same (the
@@ -37,8 +47,10 @@ namespace fretsim::coupling
     {
       for (int j = 0; j < g.ny; ++j)
         self = std::max(self, diagonal(j));
-      for (auto *field : {&response, &gap, &direction})
+      for (auto *field : {&response, &gap, &direction, &masked, &preconditioned})
         field->assign(g.size(), 0.0);
+      if (periodic_x)
+        preconditioner = compliance.inverse(layer_compliance);
       compliance.apply(contact::Field(g.size(), 1.0), response);
       uniform = *std::max_element(response.begin(), response.end()) + layer_compliance;
     }
@@ -50,6 +62,55 @@ namespace fretsim::coupling
       unit[grid.index(0, j)] = 1.0;
       compliance.apply(unit, response);
       return response[grid.index(0, j)];
+    }
+
+    /// R is positive semidefinite in exact arithmetic (the part of K⁻¹ the
+    /// basis does not hold). Sampled from an FE mesh coarser than the grid,
+    /// its blocks at the shortest wavelengths around the circumference come
+    /// out slightly indefinite (on the 6208 ring down to -1 % of the largest
+    /// eigenvalue, at 153 of 180 wavenumbers); without a half-space's
+    /// compliance in series the contact problem would then be indefinite.
+    /// Per wavenumber k, the ny × ny block R̂(k) = Σ_di R(di) cos(2π k di/nx)
+    /// (R even in di) has its negative eigenvalues set to zero, and the table
+    /// is transformed back. `table` [j][jj][di], in place.
+    static void positive_semidefinite(const contact::SurfaceGrid &g, std::vector<double> &table)
+    {
+      const int nx = g.nx, ny = g.ny, frequencies = nx / 2 + 1;
+      const auto at = [&](int j, int jj, int di) -> double & {
+        return table[(static_cast<std::size_t>(j) * ny + jj) * nx + di];
+      };
+      std::vector<double> cosine(static_cast<std::size_t>(nx));
+      for (int n = 0; n < nx; ++n)
+        cosine[n] = std::cos(2.0 * M_PI * n / nx);
+      std::vector<Eigen::MatrixXd> blocks(frequencies, Eigen::MatrixXd(ny, ny));
+#pragma omp parallel for schedule(dynamic)
+      for (int k = 0; k < frequencies; ++k)
+        {
+          for (int j = 0; j < ny; ++j)
+            for (int jj = 0; jj < ny; ++jj)
+              {
+                double sum = 0.0;
+                for (int di = 0; di < nx; ++di)
+                  sum += at(j, jj, di) * cosine[(static_cast<long>(k) * di) % nx];
+                blocks[k](j, jj) = sum;
+              }
+          const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> split(blocks[k]);
+          blocks[k] = split.eigenvectors() * split.eigenvalues().cwiseMax(0.0).asDiagonal() *
+                      split.eigenvectors().transpose();
+        }
+      // back: R(di) = (1/nx) Σ_k w_k R̂(k) cos(2π k di/nx), w = 1 at k = 0
+      // and (nx even) k = nx/2, else 2 (the mirrored half).
+#pragma omp parallel for schedule(static)
+      for (int j = 0; j < ny; ++j)
+        for (int jj = 0; jj < ny; ++jj)
+          for (int di = 0; di < nx; ++di)
+            {
+              double sum = 0.0;
+              for (int k = 0; k < frequencies; ++k)
+                sum += (k == 0 || 2 * k == nx ? 1.0 : 2.0) * blocks[k](j, jj) *
+                       cosine[(static_cast<long>(k) * di) % nx];
+              at(j, jj, di) = sum / nx;
+            }
     }
 
     /// The half-space's kernel (Love's rectangles; on the closed
@@ -93,11 +154,31 @@ namespace fretsim::coupling
               deviation = std::max(deviation, std::abs(value - mean));
             }
       asymmetry = largest > 0.0 ? deviation / largest : 0.0;
+      positive_semidefinite(g, table);
       return contact::SurfaceConvolution(
         g, contact::RowPairInfluenceFunction([g, love, table = std::move(table)](int di, int j, int jj) {
           const int wrapped = ((di % g.nx) + g.nx) % g.nx;
           return love(di, j - jj) + table[(static_cast<std::size_t>(j) * g.ny + jj) * g.nx + wrapped];
         }));
+    }
+
+    /// z = P_A M⁻¹ P_A r with A the cells where `pressure` > 0 (M⁻¹ the
+    /// preconditioner; without one, z = P_A r).
+    void precondition(const contact::Field &pressure, const contact::Field &r, contact::Field &z, std::size_t &count)
+    {
+      const std::size_t cells = grid.size();
+      for (std::size_t c = 0; c < cells; ++c)
+        masked[c] = pressure[c] > 0.0 ? r[c] : 0.0;
+      if (!preconditioner)
+        {
+          z = masked;
+          return;
+        }
+      ++count;
+      preconditioner->apply(masked, z);
+      for (std::size_t c = 0; c < cells; ++c)
+        if (!(pressure[c] > 0.0))
+          z[c] = 0.0;
     }
 
     /// out = (C + I/k_n) in, on the whole grid.
@@ -180,23 +261,25 @@ namespace fretsim::coupling
             for (std::size_t c = 0; c < cells; ++c)
               d.gap[c] -= b[c];
           }
-        double squared = 0.0, worst = 0.0;
+        double worst = 0.0;
         for (std::size_t c = 0; c < cells; ++c)
           {
             if (p[c] > 0.0)
-              {
-                squared += d.gap[c] * d.gap[c];
-                worst = std::max(worst, std::abs(d.gap[c]));
-              }
+              worst = std::max(worst, std::abs(d.gap[c]));
             else if (d.gap[c] < 0.0)
               worst = std::max(worst, -d.gap[c]);
           }
         if (worst <= tolerance)
           return it;
+        d.precondition(p, d.gap, d.preconditioned, d.statistics.solve_convolutions);
+        double squared = 0.0; // gapᵀ M⁻¹ gap over the loaded cells
+        for (std::size_t c = 0; c < cells; ++c)
+          if (p[c] > 0.0)
+            squared += d.gap[c] * d.preconditioned[c];
         const double ratio = restart ? 0.0 : squared / previous;
         previous           = squared;
         for (std::size_t c = 0; c < cells; ++c)
-          d.direction[c] = p[c] > 0.0 ? d.gap[c] + ratio * d.direction[c] : 0.0;
+          d.direction[c] = p[c] > 0.0 ? d.preconditioned[c] + ratio * d.direction[c] : 0.0;
         d.apply(d.direction, d.response, d.statistics.solve_convolutions);
         double along = 0.0, curvature = 0.0;
         for (std::size_t c = 0; c < cells; ++c)
@@ -278,8 +361,22 @@ namespace fretsim::coupling
     bool        diverged     = false;
 #pragma omp parallel reduction(+ : convolutions) reduction(|| : diverged)
     {
-      std::vector<double> x(m), r(m), s(m), as(m);
+      std::vector<double> x(m), r(m), s(m), as(m), z(m);
       contact::Field      full(d.grid.size(), 0.0), response(d.grid.size(), 0.0);
+      // z = P_A M⁻¹ P_A r (Impl::precondition, on this thread's arrays)
+      const auto precondition = [&](const std::vector<double> &in, std::vector<double> &out) {
+        if (!d.preconditioner)
+          {
+            out = in;
+            return;
+          }
+        for (std::size_t a = 0; a < m; ++a)
+          full[loaded[a]] = in[a];
+        ++convolutions;
+        d.preconditioner->apply(full, response);
+        for (std::size_t a = 0; a < m; ++a)
+          out[a] = response[loaded[a]];
+      };
       const auto          apply = [&](const std::vector<double> &in, std::vector<double> &out) {
         for (std::size_t a = 0; a < m; ++a)
           full[loaded[a]] = in[a];
@@ -313,8 +410,9 @@ namespace fretsim::coupling
           apply(x, as);
           for (std::size_t a = 0; a < m; ++a)
             r[a] -= as[a];
-          s         = r;
-          double rr = dot(r, r);
+          precondition(r, z);
+          s         = z;
+          double rr = dot(r, z);
           int    it = 0;
           for (; it < 1000; ++it)
             {
@@ -330,9 +428,10 @@ namespace fretsim::coupling
                   x[a] += alpha * s[a];
                   r[a] -= alpha * as[a];
                 }
-              const double rr_next = dot(r, r);
+              precondition(r, z);
+              const double rr_next = dot(r, z);
               for (std::size_t a = 0; a < m; ++a)
-                s[a] = r[a] + rr_next / rr * s[a];
+                s[a] = z[a] + rr_next / rr * s[a];
               rr = rr_next;
             }
           if (it == 1000)

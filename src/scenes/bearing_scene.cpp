@@ -695,6 +695,7 @@ namespace fretsim::scenes
     summary.set("local_compliance", s.local_compliance);
     summary.set("in_step_bristle_law", s.in_step_bristle_law);
     summary.set("local_compliance_modulus_Pa", s.run.interface.local_compliance_modulus);
+    summary.set("ring_residual_flexibility", s.ring_residual);
     summary.set("ball_count", static_cast<long long>(s.run.bearing.ball_count));
     summary.set("pitch_diameter_m", s.run.bearing.pitch_diameter);
     summary.set("ball_contact_stiffness_N_per_m1.5", s.run.ball_stiffness);

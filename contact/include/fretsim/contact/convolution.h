@@ -46,6 +46,13 @@ namespace fretsim::contact
 
     /// result = K * load (DC-FFT).
     void apply(const Field &load, Field &result) const;
+    /// The inverse of K + shift I on the whole grid, closed in x (periodic,
+    /// rows along x): per x-frequency the ny × ny block of K's spectrum plus
+    /// shift, inverted, as a convolution of its own (a row-pair kernel). The
+    /// interface's preconditioner (coupling/local_compliance). Throws
+    /// std::logic_error for a convolution not periodic in x or not by rows,
+    /// std::runtime_error if a block is singular.
+    SurfaceConvolution inverse(double shift) const;
     /// result = K * load by O(N^2) direct summation: the reference.
     void apply_direct(const Field &load, Field &result) const;
 

@@ -4,6 +4,7 @@
 
 #include "app/reduce_command.h"
 #include "app/reduced_statics.h"
+#include "coupling/ring_coupling.h"
 #include "app/ring_housing.h"
 #include "output/results_file.h"
 #include "scenes/bearing_scene.h"
@@ -320,9 +321,8 @@ namespace fretsim::app
                                        const Instant &instant)
     {
         const int           nx = grid.nx, ny = grid.ny;
-        const double        cell_area = grid.cell_area(), angle_step = grid.hx / grid.radius;
+        const double        cell_area = grid.cell_area();
         const auto         &traction = residual.traction;
-        const auto         &ball     = residual.ball;
         const std::size_t   cells = static_cast<std::size_t>(nx) * ny;
         std::vector<double> u(cells, 0.0);
         const std::array<const std::vector<double> *, 3> loads{&instant.tractions.pressure, &instant.tractions.shear_x,
@@ -341,19 +341,8 @@ namespace fretsim::app
                     u[static_cast<std::size_t>(jj * nx + i)] +=
                       force * column[static_cast<std::size_t>(jj * nx + (i - i0 + nx) % nx)];
               }
-        for (std::size_t b = 0; b < instant.ball_angles.size(); ++b)
-          {
-            const double shift = std::remainder(instant.ball_angles[b] - residual.column_angle, 2.0 * M_PI) / angle_step;
-            for (int jj = 0; jj < ny; ++jj)
-              for (int i = 0; i < nx; ++i)
-                {
-                  const double at = i - shift, lower = std::floor(at), fraction = at - lower;
-                  const int    k0 = ((static_cast<int>(lower) % nx) + nx) % nx, k1 = (k0 + 1) % nx;
-                  u[static_cast<std::size_t>(jj * nx + i)] +=
-                    instant.ball_loads[b] * ((1.0 - fraction) * ball[static_cast<std::size_t>(jj * nx + k0)] +
-                                             fraction * ball[static_cast<std::size_t>(jj * nx + k1)]);
-                }
-          }
+        coupling::add_ball_residual({nx, ny, grid.hx, grid.hy, grid.x_min, grid.y_min}, grid.radius, residual.ball,
+                                    residual.column_angle, instant.ball_angles, instant.ball_loads, u);
         return u;
     }
 

@@ -1,6 +1,7 @@
 #include "app/reduced_statics.h"
 
 #include "coupling/local_compliance.h"
+#include "coupling/ring_coupling.h"
 
 #include <fretsim/fem/shifted_static_solver.h>
 #include <fretsim/fem/surface_grid_map.h>
@@ -271,21 +272,10 @@ namespace fretsim::app
     // The balls: their generalised load, and their residual u_r under the
     // layer (the table shifted to each ball, linear between columns).
     std::vector<double> g(n, 0.0), ball_residual(cells, 0.0);
-    const double        angle_step = grid.hx / grid.radius;
     for (std::size_t b = 0; b < ball_angles.size(); ++b)
-      {
-        add_ball_row(whole, ball_angles[b], ball_loads[b], g);
-        const double shift = std::remainder(ball_angles[b] - residual.column_angle, 2.0 * M_PI) / angle_step;
-        for (int j = 0; j < grid.ny; ++j)
-          for (int i = 0; i < grid.nx; ++i)
-            {
-              const double at = i - shift, lower = std::floor(at), fraction = at - lower;
-              const int    k0 = ((static_cast<int>(lower) % grid.nx) + grid.nx) % grid.nx, k1 = (k0 + 1) % grid.nx;
-              const auto   cell = [&](int column) { return static_cast<std::size_t>(j) * grid.nx + column; };
-              ball_residual[cell(i)] +=
-                ball_loads[b] * ((1.0 - fraction) * residual.ball[cell(k0)] + fraction * residual.ball[cell(k1)]);
-            }
-      }
+      add_ball_row(whole, ball_angles[b], ball_loads[b], g);
+    coupling::add_ball_residual(surface, grid.radius, residual.ball, residual.column_angle, ball_angles, ball_loads,
+                                ball_residual);
     using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
     RowMatrix radial(cells, n); // the u_r rows
     for (std::size_t c = 0; c < cells; ++c)

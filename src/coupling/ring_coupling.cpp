@@ -36,6 +36,28 @@ namespace fretsim::coupling
       fail("the residual flexibility must have [rows][cells] pressure and [cells] ball entries");
   }
 
+  void add_ball_residual(const contact::SurfaceGrid &grid, double radius, const std::vector<double> &table,
+                         double column_angle, const std::vector<double> &angles, const std::vector<double> &loads,
+                         std::vector<double> &field)
+  {
+    const int    nx = grid.nx, ny = grid.ny;
+    const double angle_step = grid.hx / radius;
+    for (std::size_t b = 0; b < angles.size(); ++b)
+      {
+        if (loads[b] == 0.0)
+          continue;
+        const double shift = std::remainder(angles[b] - column_angle, 2.0 * M_PI) / angle_step;
+        for (int i = 0; i < nx; ++i)
+          {
+            const double at = i - shift, lower = std::floor(at), fraction = at - lower;
+            const int    k0 = ((static_cast<int>(lower) % nx) + nx) % nx, k1 = (k0 + 1) % nx;
+            for (int j = 0; j < ny; ++j)
+              field[grid.index(i, j)] +=
+                loads[b] * ((1.0 - fraction) * table[grid.index(k0, j)] + fraction * table[grid.index(k1, j)]);
+          }
+      }
+  }
+
   ReducedRing with_flexible_housing(const ReducedRing &ring, const ReducedHousing &housing)
   {
     ring.check();
@@ -189,29 +211,11 @@ namespace fretsim::coupling
       residual_column_angle = ring.residual_column_angle;
     }
 
-    /// ball_residual = Σ_j Q_j R_b(θ - ψ_j): the table shifted to each ball,
-    /// linear between columns (as compare applies it).
     void set_ball_loads(const std::vector<double> &angles, const std::vector<double> &loads)
     {
       std::fill(ball_residual.begin(), ball_residual.end(), 0.0);
-      if (residual_ball.empty())
-        return;
-      const int    nx = grid.nx, ny = grid.ny;
-      const double angle_step = grid.hx / radius;
-      for (std::size_t b = 0; b < angles.size(); ++b)
-        {
-          if (loads[b] == 0.0)
-            continue;
-          const double shift = std::remainder(angles[b] - residual_column_angle, 2.0 * M_PI) / angle_step;
-          for (int i = 0; i < nx; ++i)
-            {
-              const double at = i - shift, lower = std::floor(at), fraction = at - lower;
-              const int    k0 = ((static_cast<int>(lower) % nx) + nx) % nx, k1 = (k0 + 1) % nx;
-              for (int j = 0; j < ny; ++j)
-                ball_residual[grid.index(i, j)] += loads[b] * ((1.0 - fraction) * residual_ball[grid.index(k0, j)] +
-                                                               fraction * residual_ball[grid.index(k1, j)]);
-            }
-        }
+      if (!residual_ball.empty())
+        add_ball_residual(grid, radius, residual_ball, residual_column_angle, angles, loads, ball_residual);
     }
 
     double dot(const float *values, const double *x) const

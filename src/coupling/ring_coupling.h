@@ -79,6 +79,14 @@ namespace fretsim::coupling
     void check() const;
   };
 
+  /// field += Σ_b Q_b R(θ − ψ_b): a ball residual table `table` [cell] (per N
+  /// of a ball at `column_angle` [rad]; ReducedRing::residual_ball) shifted
+  /// to each ball at ψ_b with load Q_b, linear between the grid's columns
+  /// (x = radius θ). The co-simulation's and compare's one way to place it.
+  void add_ball_residual(const contact::SurfaceGrid &grid, double radius, const std::vector<double> &table,
+                         double column_angle, const std::vector<double> &angles, const std::vector<double> &loads,
+                         std::vector<double> &field);
+
   /// A Craig–Bampton model of the housing (held at its outside), reduced on
   /// its bore: coordinates q_h ∈ R^n, the bore's displacement on the same grid
   /// as the ring's outer surface, [cell][3][n] (u_r outward, u_θ, u_z).

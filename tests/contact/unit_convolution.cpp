@@ -39,6 +39,17 @@ namespace
            0.001 * di * dj;
   }
 
+  /// Love's kernel (E' = 1.1e11 Pa) on a grid closed in x: the nearest image acts.
+  InfluenceFunction love_around(const SurfaceGrid &ring)
+  {
+    return [ring](int di, int dj) {
+      di = ((di % ring.nx) + ring.nx) % ring.nx;
+      if (di > ring.nx / 2)
+        di -= ring.nx;
+      return influence::normal_displacement(di * ring.hx, dj * ring.hy, ring.hx, ring.hy, 1.1e11);
+    };
+  }
+
   Field random_field(const SurfaceGrid &grid, unsigned seed)
   {
     std::mt19937                           generator(seed);
@@ -271,12 +282,7 @@ TEST(SurfaceConvolution, RowsAlongXGiveTheSameNumbersOnOneThreadAsOnTwo)
   // (complex), with an odd row count (unequal parts). Each also against the
   // direct sum (relative 1e-12: FFT round-off).
   const auto ring = SurfaceGrid::centred(360, 16, 2.0 * M_PI * 0.04, 0.018);
-  const auto love = [&](int di, int dj) {
-    di = ((di % ring.nx) + ring.nx) % ring.nx;
-    if (di > ring.nx / 2)
-      di -= ring.nx;
-    return influence::normal_displacement(di * ring.hx, dj * ring.hy, ring.hx, ring.hy, 1.1e11);
-  };
+  const auto love = love_around(ring);
   const auto odd = SurfaceGrid::centred(24, 17, 1.0, 1.0);
   const std::vector<SurfaceConvolution> convolutions = [&] {
     std::vector<SurfaceConvolution> list;
@@ -334,12 +340,7 @@ TEST(SurfaceConvolution, RowPairKernelMatchesTheDenseSumOnTheClosedCircumference
               direct[grid.index(i, j)] += periodic(i - ii, j, jj) * load[grid.index(ii, jj)];
       EXPECT_LE(max_abs_difference(fast, direct), 1e-12 * max_abs(direct));
     }
-  const auto love = [&](int di, int dj) {
-    di = ((di % ring.nx) + ring.nx) % ring.nx;
-    if (di > ring.nx / 2)
-      di -= ring.nx;
-    return influence::normal_displacement(di * ring.hx, dj * ring.hy, ring.hx, ring.hy, 1.1e11);
-  };
+  const auto love = love_around(ring);
   const SurfaceConvolution toeplitz(ring, love, true, SurfaceConvolution::Method::rows_along_x);
   const SurfaceConvolution pairs(ring, RowPairInfluenceFunction([&](int di, int j, int jj) { return love(di, j - jj); }));
   const Field load = random_field(ring, 11);
@@ -401,12 +402,7 @@ TEST(SurfaceConvolution, TheInverseOnTheClosedCircumferenceUndoesTheConvolution)
   // (complex spectra): relative 1e-10 (two FFT round trips through blocks
   // whose condition number is ~ max K̂ / s).
   const auto ring = SurfaceGrid::centred(90, 6, 2.0 * M_PI * 0.04, 0.018);
-  const auto love = [&](int di, int dj) {
-    di = ((di % ring.nx) + ring.nx) % ring.nx;
-    if (di > ring.nx / 2)
-      di -= ring.nx;
-    return influence::normal_displacement(di * ring.hx, dj * ring.hy, ring.hx, ring.hy, 1.1e11);
-  };
+  const auto love = love_around(ring);
   const auto uneven = [&](int di, int j, int jj) {
     di = ((di % ring.nx) + ring.nx) % ring.nx;
     return 1e-16 * (std::exp(-0.3 * std::min(di, ring.nx - di)) * (1.0 + 0.1 * j) + 0.2 * std::sin(0.1 * di) * (j == jj));

@@ -26,6 +26,43 @@ using fretsim::coupling::testing::jacobian_error;
 namespace
 {
   double largest(const contact::Field &field) { return *std::max_element(field.begin(), field.end()); }
+
+  /// The interface Jacobian checks' case: an interference fit keeps every
+  /// cell loaded and a large μ every bristle sticking (a smooth map); the
+  /// half-space in series; the accepted state (q0, v) and the perturbed q.
+  struct JacobianCase
+  {
+    InterfaceSettings   settings;
+    std::vector<double> q0 = std::vector<double>(5), v = std::vector<double>(5), q;
+    JacobianCase()
+    {
+      settings.normal_stiffness         = 1e15;
+      settings.tangential_stiffness     = 2e15;
+      settings.friction_coefficient     = 10.0;
+      settings.normal_damping_time      = 1e-6;
+      settings.radial_interference      = 5e-9;
+      settings.local_compliance_modulus = 2.3e11;
+      settings.sensitivity_tolerance    = 1e-4; // the default 1e-2 is for Newton's matrix, too coarse for this check
+      for (std::size_t j = 0; j < 5; ++j)
+        {
+          q0[j] = 1e-10 * std::cos(1.3 * j);
+          v[j]  = 1e-7 * std::sin(0.7 * j);
+        }
+      q = q0;
+      for (std::size_t j = 0; j < q.size(); ++j)
+        q[j] += 0.02e-9 * std::cos(3.0 * j);
+    }
+  };
+
+  /// The generalised force of `contact` at (q, q̇), for the differences.
+  auto forces_of(InterfaceContact &contact)
+  {
+    return [&contact](const std::vector<double> &q, const std::vector<double> &v) {
+      std::vector<double> out(q.size(), 0.0);
+      contact.add_forces(q.data(), v.data(), {out.data(), nullptr, nullptr});
+      return out;
+    };
+  }
 } // namespace
 
 TEST(LocalCompliance, ASpherePressedIntoTheHalfSpaceCarriesHertzsLoadAndPeak)
@@ -169,34 +206,16 @@ TEST(LocalCompliance, TheInterfaceJacobianCarriesTheHalfSpacesSensitivity)
   // An interference fit keeps every cell loaded and a large μ keeps every
   // bristle sticking: the map is smooth, and central differences check
   // ∂f/∂q = A Bᵀ (C_AA + I/k_n)⁻¹ R, cell to cell coupled.
-  const auto        ring = synthetic::random_ring(5, 36, 3, 7);
-  InterfaceSettings settings;
-  settings.normal_stiffness         = 1e15;
-  settings.tangential_stiffness     = 2e15;
-  settings.friction_coefficient     = 10.0;
-  settings.normal_damping_time      = 1e-6;
-  settings.radial_interference      = 5e-9;
-  settings.local_compliance_modulus = 2.3e11;
-  settings.sensitivity_tolerance    = 1e-4; // the default 1e-2 is for Newton's matrix, too coarse for this check
-  InterfaceContact contact(ring, settings);
-  std::vector<double> q0(5), v(5);
-  for (std::size_t j = 0; j < 5; ++j)
-    {
-      q0[j] = 1e-10 * std::cos(1.3 * j);
-      v[j]  = 1e-7 * std::sin(0.7 * j);
-    }
+  const auto               ring = synthetic::random_ring(5, 36, 3, 7);
+  const JacobianCase       c;
+  const InterfaceSettings &settings = c.settings;
+  const auto              &q0 = c.q0, &v = c.v, &q = c.q;
+  InterfaceContact         contact(ring, settings);
   contact.accept(q0.data(), v.data());
-  auto q = q0;
-  for (std::size_t j = 0; j < q.size(); ++j)
-    q[j] += 0.02e-9 * std::cos(3.0 * j);
   std::vector<double> f(5, 0.0), dq(25, 0.0), dv(25, 0.0);
   contact.add_forces(q.data(), v.data(), {f.data(), dq.data(), dv.data()});
   ASSERT_GT(contact.contact_fraction(), 0.0);
-  const auto evaluate = [&](const std::vector<double> &qq, const std::vector<double> &vv) {
-    std::vector<double> out(5, 0.0);
-    contact.add_forces(qq.data(), vv.data(), {out.data(), nullptr, nullptr});
-    return out;
-  };
+  const auto evaluate = forces_of(contact);
   // Steps: the pressure solve stops within 1e-7 × 5 nm of the gap, so the
   // differences move the approach by ≥ 1e-12 m (q by 1e-12, q̇ by 1e-6 × τ_d):
   // noise ≤ 5e-4. Every cell stays loaded and sticking: no truncation error.
@@ -315,35 +334,16 @@ TEST(LocalCompliance, TheInterfaceJacobianCarriesTheRingsResidualFlexibility)
     for (int i = 0; i < grid.nx; ++i)
       ring.residual_ball[grid.index(i, j)] = 1e-12 * std::exp(-0.5 * nearest(i) * nearest(i)); // m/N
   ring.residual_column_angle = grid.x(0) / ring.interface_radius;
-  InterfaceSettings settings;
-  settings.normal_stiffness         = 1e15;
-  settings.tangential_stiffness     = 2e15;
-  settings.friction_coefficient     = 10.0;
-  settings.normal_damping_time      = 1e-6;
-  settings.radial_interference      = 5e-9;
-  settings.local_compliance_modulus = 2.3e11;
-  settings.sensitivity_tolerance    = 1e-4;
-  InterfaceContact    contact(ring, settings);
-  std::vector<double> q0(5), v(5);
-  for (std::size_t j = 0; j < 5; ++j)
-    {
-      q0[j] = 1e-10 * std::cos(1.3 * j);
-      v[j]  = 1e-7 * std::sin(0.7 * j);
-    }
+  const JacobianCase        c;
+  const auto               &q0 = c.q0, &v = c.v, &q = c.q;
+  InterfaceContact          contact(ring, c.settings);
   const std::vector<double> angles{0.3, 2.0}, loads{1000.0, 2000.0};
   contact.set_ball_loads(angles, loads);
   contact.accept(q0.data(), v.data());
-  auto q = q0;
-  for (std::size_t j = 0; j < q.size(); ++j)
-    q[j] += 0.02e-9 * std::cos(3.0 * j);
   std::vector<double> f(5, 0.0), dq(25, 0.0), dv(25, 0.0);
   contact.add_forces(q.data(), v.data(), {f.data(), dq.data(), dv.data()});
   ASSERT_GT(contact.contact_fraction(), 0.99);
-  const auto evaluate = [&](const std::vector<double> &qq, const std::vector<double> &vv) {
-    std::vector<double> out(5, 0.0);
-    contact.add_forces(qq.data(), vv.data(), {out.data(), nullptr, nullptr});
-    return out;
-  };
+  const auto evaluate = forces_of(contact);
   // Tolerance as in the test above (the same steps, noise and CG stop).
   EXPECT_LT(jacobian_error(5, q, v, 0, 1e-12, evaluate, dq), 2e-3);
   EXPECT_LT(jacobian_error(5, q, v, 1, 1e-6, evaluate, dv), 2e-3);

@@ -264,11 +264,7 @@ namespace fretsim::app
     const std::size_t n = whole.n, cells = grid.size();
     const double      area = grid.cell_area();
     const contact::SurfaceGrid surface{grid.nx, grid.ny, grid.hx, grid.hy, grid.x_min, grid.y_min};
-    // R per unit pressure, inward (the table is outward u_r per N pushing in).
-    std::vector<double> compliance(residual.traction[0].size());
-    for (std::size_t k = 0; k < compliance.size(); ++k)
-      compliance[k] = -area * residual.traction[0][k];
-    coupling::LocalCompliance local(surface, 0.0, normal_stiffness, true, 1e-6, compliance);
+    coupling::LocalCompliance local(surface, 0.0, normal_stiffness, true, 1e-6, residual.inward_per_pressure(area));
     // The balls: their generalised load, and their residual u_r under the
     // layer (the table shifted to each ball, linear between columns).
     std::vector<double> g(n, 0.0), ball_residual(cells, 0.0);

@@ -230,7 +230,8 @@ namespace fretsim::scenes
       Spec::selection("Interface/Local compliance", "none",
                       "Elastic half-space in series with the layer (Love's rectangles on the interface grid, "
                       "periodic around the circumference): none (the layer alone), housing (the rigid housing's "
-                      "local elasticity, which nothing else models; the ring's comes from its reduced model), both "
+                      "local elasticity, which nothing else models; the ring's comes from its reduced model and its "
+                      "residual flexibility), both "
                       "(housing and ring: the ring's local compliance beyond what its interface modes resolve, "
                       "counting its long wavelengths twice). Only none with a flexible housing.",
                       "none|housing|both"),
@@ -484,10 +485,7 @@ namespace fretsim::scenes
                             "false, or a model file with the ring's residual flexibility: '" + s.ring_model.file +
                               "' has none (a free ring reduced with a raceway, an interface grid and more than six "
                               "characteristic constraint modes has)");
-        const double area = ring.interface_grid.cell_area();
-        ring.residual_pressure.resize(model.residual.traction[0].size());
-        for (std::size_t k = 0; k < ring.residual_pressure.size(); ++k)
-          ring.residual_pressure[k] = -area * model.residual.traction[0][k]; // outward u_r per N inward: inward per Pa
+        ring.residual_pressure     = model.residual.inward_per_pressure(ring.interface_grid.cell_area());
         ring.residual_ball         = model.residual.ball;
         ring.residual_column_angle = model.residual.column_angle;
       }

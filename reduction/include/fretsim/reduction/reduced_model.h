@@ -69,6 +69,15 @@ namespace fretsim::reduction
     unsigned int solves  = 0;
     double       seconds = 0.0;
     bool         empty() const { return ball.empty(); }
+    /// The pressure table as compliance: the inward displacement of every
+    /// cell per unit pressure on cell (0, jj), [jj][cell] [m/Pa].
+    std::vector<double> inward_per_pressure(double cell_area) const
+    {
+      std::vector<double> compliance(traction[0].size());
+      for (std::size_t k = 0; k < compliance.size(); ++k)
+        compliance[k] = -cell_area * traction[0][k];
+      return compliance;
+    }
   };
 
   struct ReducedModel

@@ -54,6 +54,7 @@ namespace fretsim::coupling
     std::vector<double>  absolute_tolerance;
     // Work arrays of the right-hand side and Jacobian.
     std::vector<double> force, by_position, by_velocity;
+    std::vector<double> ball_scratch; // set_ball_loads' generalised force, unused
     std::string         last_error;
 
     Impl(const ReducedRing &ring, const CosimulationSettings &s)
@@ -65,6 +66,7 @@ namespace fretsim::coupling
       , force(ring.n)
       , by_position(ring.n * ring.n)
       , by_velocity(ring.n * ring.n)
+      , ball_scratch(ring.n)
     {
       const Eigen::Map<const RowMatrix> M(ring.mass.data(), n, n), K(ring.stiffness.data(), n, n);
       mass.compute(M);
@@ -137,15 +139,26 @@ namespace fretsim::coupling
           out.by_position = by_position.data();
           out.by_velocity = by_velocity.data();
         }
-      // The balls first: with the ring's residual flexibility their loads
-      // reach the interface's penetration.
       double e[2], e_rate[2];
       inner_ring(t, e, e_rate);
       const std::vector<double> angles = ball_angles(t);
-      balls.add_forces(angles, cage, e, e_rate, q, v, out);
-      interface.set_ball_loads(angles, balls.loads());
+      set_ball_loads(angles, e, e_rate, q, v);
+      // The interface's forces first, then the balls': the sums in the
+      // order they always had (a stiff layer's chatter follows the rounding).
       interface.add_forces(q, v, out);
+      balls.add_forces(angles, cage, e, e_rate, q, v, out);
       stats.contact_seconds += seconds_since(start);
+    }
+
+    /// The ball loads at (q, q̇) to the interface, where the ring's residual
+    /// flexibility turns them into penetration (a second, cheap evaluation
+    /// of the balls: nine rows).
+    void set_ball_loads(const std::vector<double> &angles, const double e[2], const double e_rate[2], const double *q,
+                        const double *v)
+    {
+      std::fill(ball_scratch.begin(), ball_scratch.end(), 0.0);
+      balls.add_forces(angles, cage, e, e_rate, q, v, {ball_scratch.data(), nullptr, nullptr});
+      interface.set_ball_loads(angles, balls.loads());
     }
 
     /// The paper's bristle update at the accepted state (t, q, q̇), with the
@@ -154,10 +167,7 @@ namespace fretsim::coupling
     {
       double e[2], e_rate[2];
       inner_ring(t, e, e_rate);
-      const std::vector<double> angles = ball_angles(t);
-      std::vector<double>       scratch(n, 0.0);
-      balls.add_forces(angles, cage, e, e_rate, q, v, {scratch.data(), nullptr, nullptr});
-      interface.set_ball_loads(angles, balls.loads());
+      set_ball_loads(ball_angles(t), e, e_rate, q, v);
       interface.accept(q, v);
     }
 

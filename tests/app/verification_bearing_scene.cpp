@@ -161,7 +161,11 @@ TEST(BearingScene, AFlexibleHousingTakesItsShareAndAStiffOneIsTheRigidHousing)
   write_text(dir / "housing.prm", small_housing);
   write_text(dir / "stiff.prm", small_housing + "subsection Housing material\n  set Young's modulus = 2.08e15\nend\n");
   const auto run = [&](const std::string &name, const std::string &housing_config) {
-    const std::string extra = "subsection Interface\n  set Damping time = 0\nend\n"
+    // Without the ring's residual flexibility: its sharper pressure under
+    // the balls is more than the housing's 30 bore modes follow (their
+    // u_r error against the housing's full FE 0.54-0.62 with it, below).
+    const std::string extra = "subsection Interface\n  set Damping time = 0\n"
+                              "  set Ring residual flexibility = false\nend\n"
                               "subsection Model\n  set Housing reduction configuration = " + housing_config +
                               "\n  set Housing model file = " + (dir / (name + "-model.h5")).string() + "\nend\n";
     write_text(dir / (name + ".scene.prm"), scene(dir, extra));

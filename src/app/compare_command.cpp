@@ -320,30 +320,30 @@ namespace fretsim::app
     std::vector<double> apply_residual(const reduction::ResidualFlexibility &residual, const fem::CylinderGrid &grid,
                                        const Instant &instant)
     {
-        const int           nx = grid.nx, ny = grid.ny;
-        const double        cell_area = grid.cell_area();
-        const auto         &traction = residual.traction;
-        const std::size_t   cells = static_cast<std::size_t>(nx) * ny;
-        std::vector<double> u(cells, 0.0);
-        const std::array<const std::vector<double> *, 3> loads{&instant.tractions.pressure, &instant.tractions.shear_x,
-                                                               &instant.tractions.shear_y};
-        for (int k = 0; k < 3; ++k)
-          for (int j = 0; j < ny; ++j)
-            for (int i0 = 0; i0 < nx; ++i0)
-              {
-                // the table is per unit force along the traction: pressure pushes in
-                const double force = (*loads[k])[static_cast<std::size_t>(j * nx + i0)] * cell_area;
-                if (force == 0.0)
-                  continue;
-                const double *column = traction[k].data() + static_cast<std::size_t>(j) * cells;
-                for (int jj = 0; jj < ny; ++jj)
-                  for (int i = 0; i < nx; ++i)
-                    u[static_cast<std::size_t>(jj * nx + i)] +=
-                      force * column[static_cast<std::size_t>(jj * nx + (i - i0 + nx) % nx)];
-              }
-        coupling::add_ball_residual({nx, ny, grid.hx, grid.hy, grid.x_min, grid.y_min}, grid.radius, residual.ball,
-                                    residual.column_angle, instant.ball_angles, instant.ball_loads, u);
-        return u;
+      const int           nx = grid.nx, ny = grid.ny;
+      const double        cell_area = grid.cell_area();
+      const auto         &traction = residual.traction;
+      const std::size_t   cells = static_cast<std::size_t>(nx) * ny;
+      std::vector<double> u(cells, 0.0);
+      const std::array<const std::vector<double> *, 3> loads{&instant.tractions.pressure, &instant.tractions.shear_x,
+                                                             &instant.tractions.shear_y};
+      for (int k = 0; k < 3; ++k)
+        for (int j = 0; j < ny; ++j)
+          for (int i0 = 0; i0 < nx; ++i0)
+            {
+              // the table is per unit force along the traction: pressure pushes in
+              const double force = (*loads[k])[static_cast<std::size_t>(j * nx + i0)] * cell_area;
+              if (force == 0.0)
+                continue;
+              const double *column = traction[k].data() + static_cast<std::size_t>(j) * cells;
+              for (int jj = 0; jj < ny; ++jj)
+                for (int i = 0; i < nx; ++i)
+                  u[static_cast<std::size_t>(jj * nx + i)] +=
+                    force * column[static_cast<std::size_t>(jj * nx + (i - i0 + nx) % nx)];
+            }
+      coupling::add_ball_residual({nx, ny, grid.hx, grid.hy, grid.x_min, grid.y_min}, grid.radius, residual.ball,
+                                  residual.column_angle, instant.ball_angles, instant.ball_loads, u);
+      return u;
     }
 
     /// A full-FE transient of the ring on the run's Winkler foundation under

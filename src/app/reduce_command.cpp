@@ -567,8 +567,7 @@ namespace fretsim::app
         display("residual flexibility", 0.0);
         fem::ShiftedStaticSolver   solver(model, request.settings.static_shift_hz, /*inertia_relief=*/true);
         const fem::SurfaceGridMap  map(model, request.grid_surface, grid);
-        const reduction::ReducedModel &reduced = result;
-        const Truncation whole = whole_model(reduced, solver.shift());
+        const Truncation           whole = whole_model(result, solver.shift());
         result.residual = residual_flexibility(solver, map, whole, grid,
                                                [&](double angle, double force) {
                                                  fem::RacewayBallLoad ball = unit_ball(request, angle);

@@ -16,22 +16,31 @@
 
 namespace fretsim::app
 {
-
-  
   namespace
   {
-  /// Rows of a row-major [items][n_full] operator, restricted to `columns`.
-  std::vector<double> restrict_columns(const std::vector<double> &op, std::size_t n_full,
-                                       const std::vector<std::size_t> &columns)
-  {
-    const std::size_t   rows = n_full == 0 ? 0 : op.size() / n_full;
-    std::vector<double> result(rows * columns.size());
-    for (std::size_t r = 0; r < rows; ++r)
-      for (std::size_t c = 0; c < columns.size(); ++c)
-        result[r * columns.size() + c] = op[r * n_full + columns[c]];
-    return result;
-  }
+    /// Rows of a row-major [items][n_full] operator, restricted to `columns`.
+    std::vector<double> restrict_columns(const std::vector<double> &op, std::size_t n_full,
+                                         const std::vector<std::size_t> &columns)
+    {
+      const std::size_t   rows = n_full == 0 ? 0 : op.size() / n_full;
+      std::vector<double> result(rows * columns.size());
+      for (std::size_t r = 0; r < rows; ++r)
+        for (std::size_t c = 0; c < columns.size(); ++c)
+          result[r * columns.size() + c] = op[r * n_full + columns[c]];
+      return result;
+    }
 
+    /// Inertia relief of a generalised load, g - M_r R (Rᵀ M_r R)⁻¹ Rᵀ g (Rᵀ g
+    /// is g's first six entries): the reduced counterpart of the full model's
+    /// f - M Φ Φᵀ f (fem/shifted_static_solver.h).
+    void relieve(const Truncation &t, std::vector<double> &g)
+    {
+      const std::vector<double> a =
+        cholesky_solve(t.rigid_factor, rigid_modes, std::vector<double>(g.begin(), g.begin() + rigid_modes));
+      for (std::size_t j = 0; j < t.n; ++j)
+        for (std::size_t r = 0; r < rigid_modes; ++r)
+          g[j] -= t.mass_rigid[j * rigid_modes + r] * a[r];
+    }
   } // namespace
 
   Truncation truncate(const reduction::ReducedModel &model, unsigned int fixed_interface, unsigned int constraint,
@@ -115,20 +124,6 @@ namespace fretsim::app
     return b;
   }
 
-  namespace
-  {
-  /// Inertia relief of a generalised load, g - M_r R (Rᵀ M_r R)⁻¹ Rᵀ g (Rᵀ g
-  /// is g's first six entries): the reduced counterpart of the full model's
-  /// f - M Φ Φᵀ f (fem/shifted_static_solver.h).
-  void relieve(const Truncation &t, std::vector<double> &g)
-  {
-    const std::vector<double> a = cholesky_solve(t.rigid_factor, rigid_modes, std::vector<double>(g.begin(), g.begin() + rigid_modes));
-    for (std::size_t j = 0; j < t.n; ++j)
-      for (std::size_t r = 0; r < rigid_modes; ++r)
-        g[j] -= t.mass_rigid[j * rigid_modes + r] * a[r];
-  }
-
-  } // namespace
 
   // M_r-orthogonal to every rigid motion, as the relieved solutions are.
   void remove_rigid_motion(const Truncation &t, std::vector<double> &q)

@@ -55,6 +55,7 @@ namespace fretsim::coupling
     // Work arrays of the right-hand side and Jacobian.
     std::vector<double> force, by_position, by_velocity;
     std::vector<double> ball_scratch; // set_ball_loads' generalised force, unused
+    bool                ball_residual;  // the ring has a residual flexibility: the interface takes the ball loads
     std::string         last_error;
 
     Impl(const ReducedRing &ring, const CosimulationSettings &s)
@@ -67,6 +68,7 @@ namespace fretsim::coupling
       , by_position(ring.n * ring.n)
       , by_velocity(ring.n * ring.n)
       , ball_scratch(ring.n)
+      , ball_residual(!ring.residual_ball.empty())
     {
       const Eigen::Map<const RowMatrix> M(ring.mass.data(), n, n), K(ring.stiffness.data(), n, n);
       mass.compute(M);
@@ -152,10 +154,12 @@ namespace fretsim::coupling
 
     /// The ball loads at (q, q̇) to the interface, where the ring's residual
     /// flexibility turns them into penetration (a second, cheap evaluation
-    /// of the balls: nine rows).
+    /// of the balls: nine rows); without one, nothing.
     void set_ball_loads(const std::vector<double> &angles, const double e[2], const double e_rate[2], const double *q,
                         const double *v)
     {
+      if (!ball_residual)
+        return;
       std::fill(ball_scratch.begin(), ball_scratch.end(), 0.0);
       balls.add_forces(angles, cage, e, e_rate, q, v, {ball_scratch.data(), nullptr, nullptr});
       interface.set_ball_loads(angles, balls.loads());

@@ -213,9 +213,10 @@ namespace fretsim::coupling
 
     void set_ball_loads(const std::vector<double> &angles, const std::vector<double> &loads)
     {
+      if (residual_ball.empty())
+        return; // ball_residual stays zero
       std::fill(ball_residual.begin(), ball_residual.end(), 0.0);
-      if (!residual_ball.empty())
-        add_ball_residual(grid, radius, residual_ball, residual_column_angle, angles, loads, ball_residual);
+      add_ball_residual(grid, radius, residual_ball, residual_column_angle, angles, loads, ball_residual);
     }
 
     double dot(const float *values, const double *x) const

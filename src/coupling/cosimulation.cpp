@@ -400,6 +400,7 @@ namespace fretsim::coupling
     check(ARKStepSetOrder(sun.arkode, s.integrator.order), "ARKStepSetOrder");
     check(ARKStepSetMaxNonlinIters(sun.arkode, s.integrator.maximum_newton_iterations), "ARKStepSetMaxNonlinIters");
     check(ARKStepSetNonlinConvCoef(sun.arkode, s.integrator.newton_tolerance), "ARKStepSetNonlinConvCoef");
+    check(ARKStepSetPredictorMethod(sun.arkode, static_cast<int>(s.integrator.predictor)), "ARKStepSetPredictorMethod");
 
     if (s.integrator.maximum_step > 0.0)
       check(ARKStepSetMaxStep(sun.arkode, s.integrator.maximum_step), "ARKStepSetMaxStep");

@@ -363,9 +363,11 @@ namespace fretsim::coupling
         !(s.ramp_time >= 0.0) || !(s.damping_ratio >= 0.0) || !positive(ring.lowest_elastic_frequency_hz))
       throw std::invalid_argument("co-simulation: duration, output interval, ball stiffness and the lowest elastic "
                                   "frequency must be positive; ramp time and damping ratio >= 0");
-    if (s.integrator.order < 2 || s.integrator.order > 5 || !positive(s.integrator.relative_tolerance) ||
+    if (s.integrator.order < 2 || s.integrator.order > 5 || s.integrator.jacobian_interval < 1 ||
+        s.integrator.maximum_newton_iterations < 1 || !positive(s.integrator.relative_tolerance) ||
         !positive(s.integrator.displacement_tolerance) || !positive(s.integrator.newton_tolerance))
-      throw std::invalid_argument("co-simulation: integrator order must be 2..5 and tolerances positive");
+      throw std::invalid_argument("co-simulation: integrator order must be 2..5, the Jacobian interval and Newton "
+                                  "iterations >= 1 and tolerances positive");
     impl = std::make_unique<Impl>(ring, s);
   }
 
@@ -401,6 +403,9 @@ namespace fretsim::coupling
     check(ARKStepSetMaxNonlinIters(sun.arkode, s.integrator.maximum_newton_iterations), "ARKStepSetMaxNonlinIters");
     check(ARKStepSetNonlinConvCoef(sun.arkode, s.integrator.newton_tolerance), "ARKStepSetNonlinConvCoef");
     check(ARKStepSetPredictorMethod(sun.arkode, static_cast<int>(s.integrator.predictor)), "ARKStepSetPredictorMethod");
+    check(ARKStepSetJacEvalFrequency(sun.arkode, s.integrator.jacobian_interval), "ARKStepSetJacEvalFrequency");
+    check(ARKStepSetLSetupFrequency(sun.arkode, static_cast<int>(s.integrator.jacobian_interval)),
+          "ARKStepSetLSetupFrequency");
 
     if (s.integrator.maximum_step > 0.0)
       check(ARKStepSetMaxStep(sun.arkode, s.integrator.maximum_step), "ARKStepSetMaxStep");

@@ -258,6 +258,19 @@ TEST(RigidRingCosimulation, AnIntegratorThatCannotKeepUpStopsWithAClearMessage)
     }
 }
 
+TEST(RigidRingCosimulation, IntegratorSettingsOutOfRangeAreRejected)
+{
+  const auto ring = synthetic::rigid_ring(radius, width, ring_mass, 120, 4);
+  for (const auto spoil : {+[](IntegratorSettings &i) { i.jacobian_interval = 0; },
+                           +[](IntegratorSettings &i) { i.maximum_newton_iterations = 0; },
+                           +[](IntegratorSettings &i) { i.order = 6; }})
+    {
+      auto s = bearing_6208(1e15, 0.11);
+      spoil(s.integrator);
+      EXPECT_THROW(BearingCosimulation(ring, s), std::invalid_argument);
+    }
+}
+
 TEST(RigidRingCosimulation, AFlexibleHousingFollowsTheJointQuasiStaticEquilibrium)
 {
   // The housing's bore held by a spring k_h = 1e9 N/m (0.1 kg; 16 kHz, far

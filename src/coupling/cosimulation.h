@@ -41,8 +41,9 @@ namespace fretsim::coupling
     /// laws have kinks (cells opening, bristles reaching the limit) and the
     /// bristles' law bends within a step, so Newton on a matrix kept over
     /// steps converges linearly (updates shrinking by 0.3-0.6 each on the
-    /// paper's case): ARKODE's 3 cut a third of its steps there, each cut
-    /// costing a fresh matrix and a quarter step (README).
+    /// paper's case): with ARKODE's 3 a third of its steps failed there (with
+    /// 12 a tenth to a sixth), each failure costing a fresh matrix and a
+    /// quarter step (README).
     int    maximum_newton_iterations = 12;
     /// Newton stops when its update's error-weighted norm is below this
     /// (ARKODE's nonlinear convergence coefficient, its default 0.1) [-].
@@ -98,6 +99,9 @@ namespace fretsim::coupling
     long   steps = 0, rhs_evaluations = 0, newton_iterations = 0, newton_failures = 0, error_test_failures = 0,
            jacobian_evaluations = 0, linear_setups = 0;
     double last_step = 0.0, smallest_step = 0.0, largest_step = 0.0; ///< [s]
+    /// Output intervals finished with ARKODE's own Newton start (the last
+    /// solution, 3 iterations) after the settings' Newton failed a step.
+    long   fallbacks = 0;
     double integrator_seconds = 0.0; ///< wall time inside ARKODE, contact loads excluded
     double contact_seconds    = 0.0; ///< wall time of the contact loads and their Jacobians
     /// The interface's half-space solves, if it has one (in contact_seconds).

@@ -264,13 +264,13 @@ namespace fretsim::scenes
                           100000000),
       Spec::integer_range("Integrator/Maximum Newton iterations", "12",
                           "Newton iterations per stage before the step is cut. The bristles' law bends within a "
-                          "step and Newton's matrix is kept over steps, so it converges linearly: ARKODE's own 3 "
-                          "cut a third of the paper case's steps, 12 a tenth (README) [-].",
+                          "step and Newton's matrix is kept over steps, so it converges linearly: with ARKODE's own "
+                          "3 a third of the paper case's steps failed, with 12 a tenth to a sixth (README) [-].",
                           1, 100),
       Spec::integer_range("Integrator/Jacobian interval", "5",
                           "Steps between fresh Jacobians of the contact forces besides those after a failed Newton "
                           "iteration (ARKODE's default 51 keeps one while the balls move the contact under it; 5: "
-                          "0.7 of the time on the paper case, README) [-].",
+                          "0.7 of the time on the paper case's four ball passes, README) [-].",
                           1, 1000),
       Spec::selection("Integrator/Stage predictor", "cutoff order",
                       "Newton's starting guess for each implicit stage (ARKODE's predictor): trivial (the last "
@@ -747,6 +747,7 @@ namespace fretsim::scenes
     integrator.set("rhs_evaluations", static_cast<long long>(stats.rhs_evaluations));
     integrator.set("newton_iterations", static_cast<long long>(stats.newton_iterations));
     integrator.set("newton_convergence_failures", static_cast<long long>(stats.newton_failures));
+    integrator.set("fallbacks_to_arkode_newton_start", static_cast<long long>(stats.fallbacks));
     integrator.set("error_test_failures", static_cast<long long>(stats.error_test_failures));
     integrator.set("jacobian_evaluations", static_cast<long long>(stats.jacobian_evaluations));
     integrator.set("linear_solver_setups", static_cast<long long>(stats.linear_setups));

@@ -471,13 +471,20 @@ namespace fretsim::coupling
     // housing 10⁴ times stiffer than steel did). Such a step is retried from
     // the last accepted state with ARKODE's own start, the last solution
     // and 3 iterations, for the rest of that output interval.
-    const auto newton_start = [&](StagePredictor predictor, int iterations) {
-      check(ARKStepSetPredictorMethod(sun.arkode, static_cast<int>(predictor)), "ARKStepSetPredictorMethod");
-      check(ARKStepSetMaxNonlinIters(sun.arkode, iterations), "ARKStepSetMaxNonlinIters");
+    struct NewtonStart
+    {
+      StagePredictor predictor;
+      int            iterations;
     };
-    newton_start(s.integrator.predictor, s.integrator.maximum_newton_iterations);
-    const bool can_fall_back =
-      s.integrator.predictor != StagePredictor::trivial || s.integrator.maximum_newton_iterations != 3;
+    const NewtonStart settings_start{s.integrator.predictor, s.integrator.maximum_newton_iterations};
+    const NewtonStart arkode_start{StagePredictor::trivial, 3}; // ARKODE's own defaults
+    const auto        newton_start = [&](const NewtonStart &start) {
+      check(ARKStepSetPredictorMethod(sun.arkode, static_cast<int>(start.predictor)), "ARKStepSetPredictorMethod");
+      check(ARKStepSetMaxNonlinIters(sun.arkode, start.iterations), "ARKStepSetMaxNonlinIters");
+    };
+    newton_start(settings_start);
+    const bool can_fall_back = settings_start.predictor != arkode_start.predictor ||
+                               settings_start.iterations != arkode_start.iterations;
     for (long k = 1; k <= outputs; ++k)
       {
         const double t_out = k * s.output_interval;
@@ -502,7 +509,7 @@ namespace fretsim::coupling
             d.stats.integrator_seconds += seconds_since(start) - (d.stats.contact_seconds - contact_time);
             if ((flag == ARK_ERR_FAILURE || flag == ARK_CONV_FAILURE) && can_fall_back && !fallen_back)
               {
-                newton_start(StagePredictor::trivial, 3);
+                newton_start(arkode_start);
                 fallen_back = true;
                 ++d.stats.fallbacks;
                 continue;
@@ -525,7 +532,7 @@ namespace fretsim::coupling
             d.stats.contact_seconds += seconds_since(accept_start);
           }
         if (fallen_back)
-          newton_start(s.integrator.predictor, s.integrator.maximum_newton_iterations);
+          newton_start(settings_start);
         if (!emit(t_out))
           return false;
       }

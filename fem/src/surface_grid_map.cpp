@@ -65,6 +65,14 @@ namespace fretsim::fem
     }
   } // namespace
 
+  void SurfaceGridMap::Impl::pressure_weights(const Sample &s, std::vector<double> &w) const
+  {
+    const unsigned int n = model->fe.n_dofs_per_cell();
+    w.resize(n);
+    for (unsigned int i = 0; i < n; ++i)
+      w[i] = s.shape[i] * pressure_sign * s.e_r[model->fe.system_to_component_index(i).first];
+  }
+
   void SurfaceGridMap::Impl::add_forces(const GridTractions &t, dealii::PETScWrappers::MPI::Vector &rhs) const
   {
     check_sizes(grid, t);

@@ -26,6 +26,10 @@ namespace fretsim::fem
     double              pressure_sign = -1.0;
     std::vector<Sample> samples;
 
+    /// The sample's direction of the pressure force on the body, per cell
+    /// DoF: (w_c)_i = φ_i(x_c) · (pressure_sign e_r) (the Winkler solvers).
+    void pressure_weights(const Sample &s, std::vector<double> &w) const;
+
     /// rhs += Hᵀ (A t), through the model's constraints.
     void add_forces(const GridTractions &t, dealii::PETScWrappers::MPI::Vector &rhs) const;
   };

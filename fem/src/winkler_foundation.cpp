@@ -55,17 +55,6 @@ namespace fretsim::fem
         MatDestroy(&shifted);
     }
 
-    /// The sample's direction of the pressure force on the body, per local DoF:
-    /// (w_c)_i = φ_i(x_c) · n_c.
-    void weights(const SurfaceGridMap::Impl::Sample &s, double pressure_sign, std::vector<double> &w) const
-    {
-      const auto        &fe = model->impl().fe;
-      const unsigned int n  = fe.n_dofs_per_cell();
-      w.resize(n);
-      for (unsigned int i = 0; i < n; ++i)
-        w[i] = s.shape[i] * pressure_sign * s.e_r[fe.system_to_component_index(i).first];
-    }
-
     /// The active-set iteration for the assembled load f; u receives the
     /// solution. Fills the grid side; `energy` holds only the foundation's part.
     WinklerGridSolution solve(const dealii::PETScWrappers::MPI::Vector &f,
@@ -161,7 +150,7 @@ namespace fretsim::fem
       for (const auto &s : map_impl.samples)
         if (active[s.grid_cell])
           {
-            weights(s, sign, w);
+            map_impl.pressure_weights(s, w);
             s.cell->get_dof_indices(dof_indices);
             for (unsigned int i = 0; i < n; ++i)
               cell_rhs(i) = k_area * fit * w[i];

@@ -43,15 +43,20 @@ if(TARGET test_fem_unit_iterative_solvers)
     LABELS unit PROCESSORS 2 ENVIRONMENT "${fretsim_mpi_env}" TIMEOUT 300)
 endif()
 
-# The Winkler foundation: distributed over two ranks against each rank alone.
-if(TARGET test_fem_verification_winkler_foundation)
-  add_test(NAME fem.mpi_np2.verification_winkler_foundation
-    COMMAND ${MPIEXEC_EXECUTABLE} ${MPIEXEC_NUMPROC_FLAG} 2 ${MPIEXEC_PREFLAGS}
-            $<TARGET_FILE:test_fem_verification_winkler_foundation>
-            --gtest_filter=WinklerFoundation.SameOnOneAndTwoRanks ${MPIEXEC_POSTFLAGS})
-  set_tests_properties(fem.mpi_np2.verification_winkler_foundation PROPERTIES
-    LABELS verification PROCESSORS 2 ENVIRONMENT "${fretsim_mpi_env}" TIMEOUT 300)
-endif()
+# The Winkler foundation, one body and the ring-housing pair: distributed
+# over two ranks against each rank alone.
+foreach(pair "winkler_foundation;WinklerFoundation" "winkler_pair;WinklerPair")
+  list(GET pair 0 name)
+  list(GET pair 1 suite)
+  if(TARGET test_fem_verification_${name})
+    add_test(NAME fem.mpi_np2.verification_${name}
+      COMMAND ${MPIEXEC_EXECUTABLE} ${MPIEXEC_NUMPROC_FLAG} 2 ${MPIEXEC_PREFLAGS}
+              $<TARGET_FILE:test_fem_verification_${name}>
+              --gtest_filter=${suite}.SameOnOneAndTwoRanks ${MPIEXEC_POSTFLAGS})
+    set_tests_properties(fem.mpi_np2.verification_${name} PROPERTIES
+      LABELS verification PROCESSORS 2 ENVIRONMENT "${fretsim_mpi_env}" TIMEOUT 300)
+  endif()
+endforeach()
 
 # The reduced Winkler solve against the full one needs a Craig–Bampton basis.
 if(TARGET test_fem_verification_reduced_winkler)

@@ -166,6 +166,68 @@ namespace fretsim::fem
     std::unique_ptr<Impl> pimpl;
   };
 
+  /// Ring and housing both meshed, joined by the layer between the ring's
+  /// outer surface and the housing bore on one grid: the full-FE transient of
+  /// a run whose housing gives way (the half-space or a flexible housing), to
+  /// measure what the reduction saves where WinklerNewmark's rigid foundation
+  /// would leave the housing's compliance out. Per grid cell the layer's
+  /// penetration is the gap closed by both surfaces,
+  ///   d_c = δ_fit - n_c·(H u)_c - n'_c·(H' u')_c = δ_fit + u_r,c - u'_r,c,
+  /// (n_c = -e_r on the ring's outer surface, n'_c = +e_r on the bore) and
+  /// p_c = k_n max(d_c, 0) pushes on both, equal and opposite. With w_c the
+  /// cell's weights on both bodies' DoFs, the layer adds k_n A w_c w_cᵀ to the
+  /// joint matrix [K + 4M/Δt², 0; 0, K' + 4M'/Δt²], which couples the two
+  /// bodies' DoFs of a cell; the steps are WinklerNewmark's (Newmark's
+  /// average acceleration, the layer at both ends of the step, the active-set
+  /// iteration from the last step's set, one MUMPS Cholesky factorisation of
+  /// the joint system per new set). The housing's loads are the layer alone;
+  /// it is held by its own supports (a housing held nowhere is singular).
+  /// No bristle tractions: a lower bound on a full-FE co-simulation.
+  class WinklerPairNewmark
+  {
+  public:
+    /// Starts at rest from the joint static solution under `initial_ring_load`
+    /// (both bodies with the 1 Hz shift, which holds the free ring's rigid
+    /// motions as in WinklerFoundationSolver). The maps must be on the two
+    /// models, on grids of the same size, with opposite pressure directions
+    /// (an outer surface and a bore); the models on the same ranks.
+    /// Everything passed must outlive the integrator. Collective. Throws
+    /// std::invalid_argument for mismatched maps, a time step that is not
+    /// finite and > 0, or a layer check_layer rejects; std::runtime_error if
+    /// a layer cell's DoF is constrained other than to zero.
+    WinklerPairNewmark(ElasticModel &ring, const SurfaceGridMap &ring_map, ElasticModel &housing,
+                       const SurfaceGridMap &housing_map, const WinklerLayer &layer, double time_step,
+                       const StaticLoad &initial_ring_load, double start_time = 0.0);
+    ~WinklerPairNewmark();
+    WinklerPairNewmark(const WinklerPairNewmark &)            = delete;
+    WinklerPairNewmark &operator=(const WinklerPairNewmark &) = delete;
+
+    /// One step to time() + Δt under the ring's `load` at the new time (its
+    /// referenced objects must live until the next step). Collective.
+    const WinklerGridSolution &advance(const StaticLoad &ring_load);
+
+    double                     time() const;
+    double                     time_step() const;
+    /// At time(); `energy` is the layer's ½ Σ k_n A max(d, 0)² alone.
+    const WinklerGridSolution &foundation() const;
+    /// The static start's layer (its `seconds`: the start's solve).
+    const WinklerGridSolution &start() const;
+    DisplacementField          ring_displacement() const;
+    DisplacementField          housing_displacement() const;
+    /// Σ over both bodies of ½vᵀMv + ½uᵀKu, plus the layer's energy, minus
+    /// the ring load's fᵀu at time() [J]. Collective.
+    double        energy() const;
+    unsigned long n_dofs() const; ///< of the joint system
+    unsigned int  steps() const;
+    unsigned int  solves() const;         ///< linear solves over the steps
+    unsigned int  factorisations() const; ///< joint factorisations over the steps
+    double        step_seconds() const;   ///< wall time of the steps so far (not the static start)
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> pimpl;
+  };
+
   /// The same problem on a reduced model u = T q (plain arrays, dense
   /// Cholesky): (K_r - σM_r + Σ_{c∈active} k_n A g_c g_cᵀ) q = g + Σ_{c∈active} k_n A δ_fit g_c,
   /// with g_c the row giving the cell's outward motion into the foundation

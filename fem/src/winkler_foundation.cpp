@@ -215,12 +215,13 @@ namespace fretsim::fem
     dealii::PETScWrappers::MPI::Vector u, v;       ///< owned
     StaticLoad                         load;       ///< f at time t
     WinklerGridSolution                state;      ///< the foundation at time t
-    double                             seconds = 0.0;
+    double                             seconds = 0.0, factorisation_seconds = 0.0;
     unsigned int                       steps = 0, factorisations = 0, solves = 0;
   };
 
   WinklerNewmark::WinklerNewmark(ElasticModel &model, const SurfaceGridMap &map, const WinklerLayer &layer,
-                                 const double time_step, const StaticLoad &initial_load, const double start_time)
+                                 const double time_step, const StaticLoad &initial_load, const double start_time,
+                                 const std::vector<unsigned char> &initial_active)
     : pimpl(std::make_unique<Impl>())
   {
     if (!(time_step > 0.0) || !std::isfinite(time_step))
@@ -237,7 +238,7 @@ namespace fretsim::fem
     p.v.reinit(m.owned_dofs, m.communicator());
     {
       WinklerFoundationSolver start(model, map, layer); // the free ring held by the 1 Hz shift
-      const auto              s = start.solve(initial_load);
+      const auto              s = start.solve(initial_load, initial_active);
       p.u                       = s.displacement.impl().displacement;
       p.state                   = s.grid;
       // As the steps' states hold it: the foundation's energy alone.
@@ -270,6 +271,7 @@ namespace fretsim::fem
     advance_newmark_state(p.dt, u_new, p.u, p.v);
     p.load = load;
     p.factorisations += next.factorisations;
+    p.factorisation_seconds += next.factorisation_seconds;
     p.solves += next.iterations;
     next.seconds = seconds_since(start);
     p.seconds += next.seconds;
@@ -282,7 +284,9 @@ namespace fretsim::fem
   double WinklerNewmark::time() const { return pimpl->t; }
   double WinklerNewmark::time_step() const { return pimpl->dt; }
   unsigned int WinklerNewmark::steps() const { return pimpl->steps; }
+  unsigned long WinklerNewmark::n_dofs() const { return pimpl->model->n_dofs(); }
   unsigned int WinklerNewmark::factorisations() const { return pimpl->factorisations; }
+  double WinklerNewmark::factorisation_seconds() const { return pimpl->factorisation_seconds; }
   unsigned int WinklerNewmark::solves() const { return pimpl->solves; }
   double WinklerNewmark::step_seconds() const { return pimpl->seconds; }
   const WinklerGridSolution &WinklerNewmark::foundation() const { return pimpl->state; }

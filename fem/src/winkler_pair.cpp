@@ -107,7 +107,7 @@ namespace fretsim::fem
 
     StaticLoad          ring_load; ///< at time t
     WinklerGridSolution state, start;
-    double              seconds = 0.0;
+    double              seconds = 0.0, factorisation_seconds = 0.0;
     unsigned int        steps = 0, factorisations = 0, solves = 0;
 
     void gather_layer_cells();
@@ -406,7 +406,8 @@ namespace fretsim::fem
   WinklerPairNewmark::WinklerPairNewmark(ElasticModel &ring_model, const SurfaceGridMap &ring_map,
                                          ElasticModel &housing_model, const SurfaceGridMap &housing_map,
                                          const WinklerLayer &layer, const double time_step,
-                                         const StaticLoad &initial_ring_load, const double start_time)
+                                         const StaticLoad &initial_ring_load, const double start_time,
+                                         const std::vector<unsigned char> &initial_active)
     : pimpl(std::make_unique<Impl>())
   {
     check_layer(layer, who);
@@ -464,7 +465,7 @@ namespace fretsim::fem
       auto              system = p.build_system(-std::pow(2.0 * M_PI * WinklerSettings{}.shift_hz, 2));
       const OwnedVector ring_f = assemble_load(ring_model.impl(), initial_ring_load);
       const OwnedVector housing_f(housing_model.impl().owned_dofs, p.comm);
-      p.state         = p.solve(*system, ring_f, housing_f, {}, p.ring.u, p.housing.u);
+      p.state         = p.solve(*system, ring_f, housing_f, initial_active, p.ring.u, p.housing.u);
       p.state.seconds = seconds_since(start);
       p.start         = p.state;
     }
@@ -497,6 +498,7 @@ namespace fretsim::fem
     advance_newmark_state(p.dt, housing_new, p.housing.u, p.housing.v);
     p.ring_load = ring_load;
     p.factorisations += next.factorisations;
+    p.factorisation_seconds += next.factorisation_seconds;
     p.solves += next.iterations;
     next.seconds = seconds_since(start);
     p.seconds += next.seconds;
@@ -510,6 +512,7 @@ namespace fretsim::fem
   double WinklerPairNewmark::time_step() const { return pimpl->dt; }
   unsigned int WinklerPairNewmark::steps() const { return pimpl->steps; }
   unsigned int WinklerPairNewmark::factorisations() const { return pimpl->factorisations; }
+  double WinklerPairNewmark::factorisation_seconds() const { return pimpl->factorisation_seconds; }
   unsigned int WinklerPairNewmark::solves() const { return pimpl->solves; }
   double WinklerPairNewmark::step_seconds() const { return pimpl->seconds; }
   unsigned long WinklerPairNewmark::n_dofs() const { return static_cast<unsigned long>(pimpl->joint_size); }

@@ -352,10 +352,16 @@ namespace fretsim::app
     /// of the run's mean steps.
     struct TransientTiming
     {
+      bool          housing_meshed = false; ///< ring and housing joined by the layer, or the ring alone
+      unsigned long dofs           = 0;     ///< of the full FE system
       unsigned int steps = 0, solves = 0, factorisations = 0;
       double       start_time = 0.0, time_step = 0.0;      ///< [s]
       double       start_seconds = 0.0, step_seconds = 0.0; ///< the static start, the steps [s]
       double       peak_pressure = 0.0;                     ///< after the last step [Pa]
+      /// Factorisations of the static start and of the steps, and their time:
+      /// the cost of one, for extrapolating to a run whose set changes more often.
+      unsigned int factorisations_all = 0;
+      double       factorisation_seconds_all = 0.0; ///< [s]
       double       reduced_per_step = 0.0;                  ///< the run's wall time per step [s]
       double       full_per_step() const { return step_seconds / steps; }
     };
@@ -382,29 +388,43 @@ namespace fretsim::app
       return load;
     }
 
-    TransientTiming time_full_transient(fem::ElasticModel &fe, const fem::SurfaceGridMap &map,
-                                        const fem::WinklerLayer &layer, const RunFields &run, std::size_t snapshot,
-                                        unsigned int steps,
-                                        const std::function<fem::RacewayBallLoad(double, double)> &ball)
+    /// Times `steps` of the run's mean step from the run's time at
+    /// `snapshot`; `make(time_step, initial_load, start_time, initial_active)`
+    /// builds the integrator (fem::WinklerNewmark or fem::WinklerPairNewmark),
+    /// its static start from the run's contact set at the snapshot (`run_pressure`).
+    template <typename Make>
+    TransientTiming time_full_transient(const RunFields &run, std::size_t snapshot, unsigned int steps,
+                                        const std::vector<double>                                 &run_pressure,
+                                        const std::function<fem::RacewayBallLoad(double, double)> &ball, Make make)
     {
+      std::vector<unsigned char> run_active(run_pressure.size());
+      for (std::size_t c = 0; c < run_pressure.size(); ++c)
+        run_active[c] = run_pressure[c] > 0.0;
       TransientTiming timing;
       timing.time_step        = run.time.back() / run.integrator_steps; // the run's mean step
       timing.reduced_per_step = run.run_seconds / run.integrator_steps;
-      timing.start_time = run.time[snapshot];
-      const auto start  = Clock::now();
-      fem::StaticLoad    load = ball_loads_at(run, timing.start_time, ball);
-      fem::WinklerNewmark transient(fe, map, layer, timing.time_step, load, timing.start_time);
-      timing.start_seconds = seconds_since(start);
+      // From the snapshot, or early enough that the balls move through every
+      // step (the run's loads end with the run).
+      timing.start_time = std::max(run.time.front(), std::min(run.time[snapshot], run.time.back() - steps * timing.time_step));
+      const auto      start = Clock::now();
+      fem::StaticLoad load  = ball_loads_at(run, timing.start_time, ball);
+      auto            transient = make(timing.time_step, load, timing.start_time, run_active);
+      timing.start_seconds      = seconds_since(start);
+      timing.factorisations_all        = transient->foundation().factorisations;
+      timing.factorisation_seconds_all = transient->foundation().factorisation_seconds;
       for (unsigned int k = 1; k <= steps; ++k)
         {
           load = ball_loads_at(run, timing.start_time + k * timing.time_step, ball);
-          transient.advance(load);
+          transient->advance(load);
         }
-      timing.steps          = transient.steps();
-      timing.solves         = transient.solves();
-      timing.factorisations = transient.factorisations();
-      timing.step_seconds   = transient.step_seconds();
-      timing.peak_pressure  = transient.foundation().peak_pressure();
+      timing.dofs           = transient->n_dofs();
+      timing.steps          = transient->steps();
+      timing.solves         = transient->solves();
+      timing.factorisations = transient->factorisations();
+      timing.step_seconds   = transient->step_seconds();
+      timing.factorisations_all += transient->factorisations();
+      timing.factorisation_seconds_all += transient->factorisation_seconds();
+      timing.peak_pressure  = transient->foundation().peak_pressure();
       return timing;
     }
 
@@ -550,16 +570,19 @@ namespace fretsim::app
       return s.str();
     }
 
-    /// One line: the full-FE transient's timing against the run's.
-    void write_transient_csv(const std::string &path, const TransientTiming &t, const RunFields &run)
+    /// One line per full-FE transient: its timing against the run's.
+    void write_transient_csv(const std::string &path, const std::vector<TransientTiming> &timings, const RunFields &run)
     {
       std::ofstream csv(path);
-      csv << "steps,time_step_s,start_time_s,solves,factorisations,start_s,full_s_per_step,run_steps,run_s,"
-             "reduced_s_per_step,full_over_reduced,peak_pressure_Pa\n"
-          << std::setprecision(10) << t.steps << ',' << t.time_step << ',' << t.start_time << ',' << t.solves << ','
-          << t.factorisations << ',' << t.start_seconds << ',' << t.full_per_step() << ',' << run.integrator_steps
-          << ',' << run.run_seconds << ',' << t.reduced_per_step << ',' << t.full_per_step() / t.reduced_per_step << ','
-          << t.peak_pressure << '\n';
+      csv << "housing_meshed,dofs,steps,time_step_s,start_time_s,solves,factorisations,start_s,full_s_per_step,"
+             "run_steps,run_s,reduced_s_per_step,full_over_reduced,peak_pressure_Pa,factorisation_s\n"
+          << std::setprecision(10);
+      for (const TransientTiming &t : timings)
+        csv << (t.housing_meshed ? 1 : 0) << ',' << t.dofs << ',' << t.steps << ',' << t.time_step << ','
+            << t.start_time << ',' << t.solves << ',' << t.factorisations << ',' << t.start_seconds << ','
+            << t.full_per_step() << ',' << run.integrator_steps << ',' << run.run_seconds << ',' << t.reduced_per_step
+            << ',' << t.full_per_step() / t.reduced_per_step << ',' << t.peak_pressure << ','
+            << t.factorisation_seconds_all / std::max(1u, t.factorisations_all) << '\n';
     }
 
     void write_csv(const std::string &path, const std::vector<Row> &rows)
@@ -681,6 +704,13 @@ namespace fretsim::app
     for (const unsigned int c : in.constraint_modes)
       if (c == 0)
         p.reject("Compare/Characteristic constraint modes", "expected counts >= 1, got 0");
+    if (const std::string housing = p.get("Compare/Full transient housing"); !housing.empty())
+      {
+        in.full_transient_housing_config =
+          (std::filesystem::path(config_file).parent_path() / housing).lexically_normal().string();
+        if (!std::filesystem::is_regular_file(in.full_transient_housing_config))
+          p.reject("Compare/Full transient housing", "no file '" + in.full_transient_housing_config + "'");
+      }
     in.normal_stiffness    = p.get_double("Interface/Normal stiffness");
     in.radial_interference = p.get_double("Interface/Radial interference");
     if (!p.get("Model/Housing reduction configuration").empty())
@@ -717,6 +747,11 @@ namespace fretsim::app
       reject("Model/Reduction configuration", "names '" + in.reduction_config +
                                                 "', a Gmsh mesh; the balls are placed on the Ring section's raceway, "
                                                 "which needs Mesh/Source = parametric");
+    // The housing meshed for the second full-FE transient.
+    std::optional<HousingAround> transient_housing;
+    if (!in.full_transient_housing_config.empty())
+      transient_housing =
+        read_housing_around(in.full_transient_housing_config, body.ring, in.source, "Compare/Full transient housing");
     reduction::ReducedModel model;
     try
       {
@@ -752,7 +787,7 @@ namespace fretsim::app
     std::optional<HousingComparison> housing;
     if (run.housing_coordinates > 0 && !in.housing_reduction_config.empty())
       {
-        housing.emplace(in.source, in.housing_reduction_config, in.housing_model_file, grid.size());
+        housing.emplace(in.source, in.housing_reduction_config, in.housing_model_file, body.ring, grid.size());
         if (housing->coordinates() != run.housing_coordinates)
           reject("Model/Housing model file", "'" + in.housing_model_file + "' has " +
                                                std::to_string(housing->coordinates()) + " coordinates; the run (" +
@@ -829,8 +864,8 @@ namespace fretsim::app
     PressureProfile          profile;
     std::vector<std::string> winkler_notes; // failed Winkler solves, printed after the table
     double                   winkler_setup = 0.0;
-    TransientTiming          transient;      // steps = 0: not run
-    std::string              transient_note; // why it failed
+    std::vector<TransientTiming> transients;      // the ring on the rigid foundation, then with the housing meshed
+    std::vector<std::string>     transient_notes; // why one failed
     {
       const auto setup_start = Clock::now();
       auto       mesh        = std::make_shared<const fem::Mesh>(build_ring_housing_mesh(body, in.reduction_config));
@@ -1203,14 +1238,35 @@ namespace fretsim::app
       // from the first compared instant.
       if (in.full_transient_steps > 0 && run.integrator_steps > 0.0)
         {
-          try
+          const fem::WinklerLayer layer{in.normal_stiffness, in.radial_interference};
+          const auto time = [&](bool housing_meshed, auto make) {
+            try
+              {
+                TransientTiming timing =
+                  time_full_transient(run, instants.front().snapshot, in.full_transient_steps,
+                                      instants.front().tractions.pressure, raceway_ball, make);
+                timing.housing_meshed = housing_meshed;
+                transients.push_back(timing);
+              }
+            catch (const std::runtime_error &error)
+              {
+                transient_notes.push_back(error.what());
+              }
+          };
+          time(false, [&](double dt, const fem::StaticLoad &load, double t0, const auto &active) {
+            return std::make_unique<fem::WinklerNewmark>(fe, map, layer, dt, load, t0, active);
+          });
+          if (transient_housing)
             {
-              transient = time_full_transient(fe, map, {in.normal_stiffness, in.radial_interference}, run,
-                                              instants.front().snapshot, in.full_transient_steps, raceway_ball);
-            }
-          catch (const std::runtime_error &error)
-            {
-              transient_note = error.what();
+              const RingHousingRequest &request = transient_housing->request;
+              const auto                housing_mesh =
+                std::make_shared<const fem::Mesh>(build_ring_housing_mesh(request, in.full_transient_housing_config));
+              fem::ElasticModel housing_fe(housing_mesh, request.materials, request.degree, transient_housing->supports);
+              const fem::SurfaceGridMap housing_map(housing_fe, BoundaryId::housing_bore, grid);
+              time(true, [&](double dt, const fem::StaticLoad &load, double t0, const auto &active) {
+                return std::make_unique<fem::WinklerPairNewmark>(fe, map, housing_fe, housing_map, layer, dt, load,
+                                                                 t0, active);
+              });
             }
         }
     } // the ring's FE objects go before the housing's are built
@@ -1334,18 +1390,25 @@ namespace fretsim::app
       }
 
     // ---- The full-FE transient against the run.
-    if (transient.steps > 0)
+    for (const TransientTiming &transient : transients)
       {
+        out << std::setprecision(6);
         const double reduced_per_step = transient.reduced_per_step;
         const double steps_per_second = run.integrator_steps / run.time.back(); // of simulated time
-        out << "\nfull-FE transient against the run (Newmark on the Winkler foundation, ball loads from the run, "
-               "no bristle tractions"
-            << (run_on_layer ? "" : ", without " + run.other_problem()) << ": a lower bound on a full-FE co-simulation's cost)\n"
-            << "  " << transient.steps << " steps of dt = " << transient.time_step << " s (the run's mean: "
-            << static_cast<long long>(run.integrator_steps) << " steps in " << run.time.back() << " s) from t = " << transient.start_time
-            << " s; " << transient.solves << " linear solves, " << transient.factorisations
-            << " factorisations; static start " << std::fixed << std::setprecision(2) << transient.start_seconds
-            << " s; peak pressure " << 1e-6 * transient.peak_pressure << " MPa\n"
+        out << "\nfull-FE transient against the run ("
+            << (transient.housing_meshed ? "ring and housing (" + in.full_transient_housing_config +
+                                             ") meshed and joined by the layer"
+                                         : std::string("the ring on the rigid Winkler foundation"))
+            << ", Newmark, ball loads from the run, no bristle tractions"
+            << (run_on_layer || transient.housing_meshed ? "" : ", without " + run.other_problem())
+            << ": a lower bound on a full-FE co-simulation's cost)\n"
+            << "  " << transient.dofs << " DoFs; " << transient.steps << " steps of dt = " << transient.time_step
+            << " s (the run's mean: " << static_cast<long long>(run.integrator_steps) << " steps in " << run.time.back()
+            << " s) from t = " << transient.start_time << " s; " << transient.solves << " linear solves, "
+            << transient.factorisations << " factorisations; static start " << std::fixed << std::setprecision(2)
+            << transient.start_seconds << " s (from the run's contact set); one factorisation "
+            << transient.factorisation_seconds_all / std::max(1u, transient.factorisations_all) << " s (mean of "
+            << transient.factorisations_all << "); peak pressure " << 1e-6 * transient.peak_pressure << " MPa\n"
             << std::defaultfloat << "  full FE: " << transient.full_per_step() << " s per step; the run: "
             << reduced_per_step << " s per step (its whole run: integration, contact, stresses, Dang Van)\n"
             << "  full / reduced: " << std::fixed << std::setprecision(1)
@@ -1357,9 +1420,9 @@ namespace fretsim::app
               << std::defaultfloat;
         out << "\n";
       }
-    else if (!transient_note.empty())
-      out << "\nnote: the full-FE transient failed: " << transient_note << "\n";
-    else if (in.full_transient_steps > 0)
+    for (const std::string &note : transient_notes)
+      out << "\nnote: a full-FE transient failed: " << note << "\n";
+    if (transients.empty() && transient_notes.empty() && in.full_transient_steps > 0)
       out << "\nnote: no full-FE transient: the results file does not record the run's steps and time (a run made "
              "before they were written)\n";
 
@@ -1405,10 +1468,10 @@ namespace fretsim::app
     const std::string csv_path = (std::filesystem::path(output_directory) / "compare.csv").string();
     write_csv(csv_path, rows);
     files.push_back(csv_path);
-    if (transient.steps > 0)
+    if (!transients.empty())
       {
         const std::string transient_path = (std::filesystem::path(output_directory) / "compare_transient.csv").string();
-        write_transient_csv(transient_path, transient, run);
+        write_transient_csv(transient_path, transients, run);
         files.push_back(transient_path);
       }
     if (!profile.full.empty())

@@ -82,6 +82,10 @@ namespace fretsim::app
     /// (Model/Housing ...; empty: the scene's housing is rigid). With a run
     /// that had it, the housing is compared too (compare_housing.h).
     std::string housing_reduction_config, housing_model_file;
+    /// The housing meshed for a second full-FE transient (Compare/Full
+    /// transient housing, resolved like the reduction configuration; empty:
+    /// none): ring and housing joined by the layer (fem::WinklerPairNewmark).
+    std::string full_transient_housing_config;
     /// The housing interface's Winkler layer, as the run had it.
     double normal_stiffness    = 1e15; ///< k_n [Pa/m], > 0
     double radial_interference = 0.0;  ///< δ_fit [m]

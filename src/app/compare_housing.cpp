@@ -49,7 +49,8 @@ namespace fretsim::app
   };
 
   HousingComparison::HousingComparison(const std::string &source, const std::string &config,
-                                       const std::string &model_file, std::size_t grid_cells)
+                                       const std::string &model_file, const fem::RingGeometry &ring,
+                                       std::size_t grid_cells)
     : impl(std::make_unique<Impl>())
   {
     const auto reject = [&](const std::string &parameter, const std::string &problem) {
@@ -57,14 +58,9 @@ namespace fretsim::app
     };
     Impl &d  = *impl;
     d.config = config;
-    d.body   = read_ring_housing_request(read_ring_housing_parameters(config, {}));
-    if (d.body.bodies != "housing")
-      reject("Model/Housing reduction configuration",
-             "names '" + config + "' with Mesh/Bodies = " + d.body.bodies + "; expected the housing alone");
-    d.supports = reduction_supports(config);
-    if (d.supports.empty())
-      reject("Model/Housing reduction configuration",
-             "names '" + config + "', which holds the housing nowhere (Reduction/Clamped surfaces is empty)");
+    HousingAround housing = read_housing_around(config, ring, source, "Model/Housing reduction configuration");
+    d.body                = std::move(housing.request);
+    d.supports            = std::move(housing.supports);
     try
       {
         d.model = reduction::read_model_file(model_file, reduce_input_hash(config));

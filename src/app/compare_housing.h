@@ -2,6 +2,8 @@
 // `fretsim compare` on a run with a flexible housing: the housing's reduced
 // model against its full FE at the run's interface tractions (the ring's
 // part is compare_command.h's).
+#include <fretsim/fem/mesh.h>
+
 #include <memory>
 #include <string>
 #include <vector>
@@ -16,9 +18,9 @@ namespace fretsim::app
     /// `source`: the scene file, for messages. `config`: the housing's
     /// ring_housing configuration (Model/Housing reduction configuration),
     /// `model_file` its reduced model (Model/Housing model file), whose
-    /// interface grid must have `grid_cells` cells.
+    /// interface grid must have `grid_cells` cells; its bore fits `ring`.
     HousingComparison(const std::string &source, const std::string &config, const std::string &model_file,
-                      std::size_t grid_cells);
+                      const fem::RingGeometry &ring, std::size_t grid_cells);
     ~HousingComparison();
 
     std::size_t coordinates() const; ///< the housing model's size n_h

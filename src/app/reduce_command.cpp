@@ -682,6 +682,27 @@ namespace fretsim::app
     return supports(read_request(read_ring_housing_parameters(config_file, {})).clamped_surfaces);
   }
 
+  HousingAround read_housing_around(const std::string &config_file, const fem::RingGeometry &ring,
+                                    const std::string &source, const std::string &parameter)
+  {
+    const auto reject = [&](const std::string &problem) { throw InputError(source, parameter, problem); };
+    HousingAround housing;
+    housing.request = read_ring_housing_request(read_ring_housing_parameters(config_file, {}));
+    if (housing.request.bodies != "housing")
+      reject("names '" + config_file + "' with Mesh/Bodies = " + housing.request.bodies +
+             "; expected the housing alone (Mesh/Bodies = housing)");
+    const fem::HousingGeometry &bore = housing.request.housing;
+    if (std::abs(bore.bore_radius - ring.outer_radius) > 1e-9 * ring.outer_radius ||
+        std::abs(bore.width - ring.width) > 1e-9 * ring.width)
+      reject("the housing bore in '" + config_file +
+             "' must have the ring's outer radius and width (Ring/Outer radius, Ring/Width): the fit is set by "
+             "Interface/Radial interference");
+    housing.supports = reduction_supports(config_file);
+    if (housing.supports.empty())
+      reject("names '" + config_file + "', which holds the housing nowhere (Reduction/Clamped surfaces is empty)");
+    return housing;
+  }
+
   std::vector<std::string> run_reduction_study(const RingHousingCommandOptions &options, std::ostream &out)
   {
     const SceneParameters parameters = read_ring_housing_parameters(options.config_file, options.overrides);

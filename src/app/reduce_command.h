@@ -32,5 +32,20 @@ namespace fretsim::app
   /// (Reduction/Clamped surfaces: a housing at its outside). Throws InputError.
   std::vector<fem::Support> reduction_supports(const std::string &config_file);
 
+  /// A housing alone around a ring: the body of a flexible housing's
+  /// reduction, or the housing `fretsim compare` meshes beside the ring.
+  struct HousingAround
+  {
+    RingHousingRequest        request;
+    std::vector<fem::Support> supports; ///< Reduction/Clamped surfaces
+  };
+
+  /// Reads `config_file` and checks it meshes the housing alone (Mesh/Bodies
+  /// = housing) with its bore at `ring`'s outer radius and width (the fit is
+  /// the interface layer's) and holds it somewhere. Throws InputError naming
+  /// `source` and `parameter` (the parameter that named the file).
+  HousingAround read_housing_around(const std::string &config_file, const fem::RingGeometry &ring,
+                                    const std::string &source, const std::string &parameter);
+
   std::vector<std::string> run_reduction_study(const RingHousingCommandOptions &options, std::ostream &out);
 } // namespace fretsim::app

@@ -311,6 +311,11 @@ namespace fretsim::scenes
                           "`fretsim compare`: steps of the full-FE transient (Newmark on the Winkler foundation, the "
                           "run's ball loads, the run's mean step) timed against the run; 0: none [-].",
                           0, 100000),
+      text("Compare/Full transient housing", "",
+           "`fretsim compare`: a ring_housing configuration of the housing alone (Mesh/Bodies = housing, held by its "
+           "Reduction/Clamped surfaces), relative to this file: the full-FE transient is timed a second time with "
+           "this housing meshed and joined to the ring by the layer (the full-FE equivalent of a run with the "
+           "housing's half-space or a flexible housing); empty: the ring on the rigid foundation only [-]."),
       text("Compare/Results file", "",
            "`fretsim compare`: the run to compare; empty: results/<this file's name>/results.h5 [-]."),
     };
@@ -335,16 +340,7 @@ namespace fretsim::scenes
     if (!par.get("Model/Housing reduction configuration").empty())
       {
         s.housing_model = housing_model_source(par);
-        const auto housing = app::read_ring_housing_request(app::read_ring_housing_parameters(s.housing_model->config, {}));
-        if (housing.bodies != "housing")
-          par.reject("Model/Housing reduction configuration",
-                     "'" + s.housing_model->config + "' must mesh the housing (Mesh/Bodies = housing)");
-        if (std::abs(housing.housing.bore_radius - body.ring.outer_radius) > 1e-9 * body.ring.outer_radius ||
-            std::abs(housing.housing.width - body.ring.width) > 1e-9 * body.ring.width)
-          par.reject("Model/Housing reduction configuration",
-                     "the housing bore in '" + s.housing_model->config +
-                       "' must have the ring's outer radius and width (Ring/Outer radius, Ring/Width): the fit is "
-                       "set by Interface/Radial interference");
+        app::read_housing_around(s.housing_model->config, body.ring, par.file(), "Model/Housing reduction configuration");
       }
 
     auto &b                   = s.run.bearing;

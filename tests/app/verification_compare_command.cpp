@@ -46,7 +46,10 @@
 //     verification_winkler_foundation.cpp) runs three of the run's mean steps
 //     and compare_transient.csv reports its time per step against the run's
 //     (timings are not asserted beyond being positive; the peak pressure is
-//     the same on two ranks);
+//     the same on two ranks); with Compare/Full transient housing a second
+//     line times ring and housing meshed and joined by the layer
+//     (fem::WinklerPairNewmark, verification_winkler_pair.cpp): more DoFs,
+//     and the steel housing's give lowers the peak;
 //   * CSV and PNG are written; under mpiexec -np 2 (if available) the numbers
 //     are the same; bad input exits with 2, names the file and the parameter
 //     (k_n <= 0 included), and writes nothing.
@@ -79,6 +82,17 @@ namespace
            "  set Sample points per line = 12\n  set Study fixed-interface modes = 16\n"
            "  set Study characteristic constraint modes = 40\n" +
            extra + "end\n";
+  }
+
+  /// A steel housing around the small ring, held at its outside.
+  std::string small_housing()
+  {
+    return "set Scene = ring_housing\n"
+           "subsection Mesh\n  set Bodies = housing\nend\n"
+           "subsection Housing\n  set Outer radius = 0.060\nend\n"
+           "subsection Divisions\n  set Circumferential = 24\n  set Radial housing = 1\n  set Axial = 2\nend\n"
+           "subsection Reduction\n  set Coupling surfaces = housing_bore\n  set Clamped surfaces = housing_outer\n"
+           "  set Raceway ball positions = 0\nend\n";
   }
 
   std::string scene(const std::filesystem::path &dir)
@@ -583,13 +597,18 @@ TEST(CompareCommand, ReducedModelAgainstFullFeAtTheRunsLoads)
   // numbers, the run's q included), the Winkler check is of the model alone,
   // and the run's pressure, another problem, is not set against it. The
   // same computation: 1e-8 is the CSV's 10 printed digits.
+  // The half-space run's full-FE transient is timed a second time with the
+  // housing meshed (Compare/Full transient housing).
   write_results(dir / "half-space.h5", model, instants, q, model.nx, "housing");
   write_results(dir / "flexible.h5", model, instants, q, model.nx, "none", 7);
+  write_text(dir / "housing.prm", small_housing());
   for (const std::string name : {"half-space", "flexible"})
     {
-      const auto other = run_program("compare " + (dir / "scene.prm").string() +
-                                     " -q --no-plots --set 'Compare/Full transient steps=0' --set 'Compare/Results file=" +
-                                     (dir / (name + ".h5")).string() + "' -o " + (dir / name).string());
+      const std::string transient = name == "half-space" ? " --set 'Compare/Full transient housing=housing.prm'"
+                                                         : " --set 'Compare/Full transient steps=0'";
+      const auto other = run_program("compare " + (dir / "scene.prm").string() + " -q --no-plots" + transient +
+                                     " --set 'Compare/Results file=" + (dir / (name + ".h5")).string() + "' -o " +
+                                     (dir / name).string());
       ASSERT_EQ(other.exit_code, 0) << other.output;
       EXPECT_NE(other.output.find(name == "flexible" ? "a flexible housing (7 coordinates)" : "local_compliance = housing"),
                 std::string::npos)
@@ -612,6 +631,25 @@ TEST(CompareCommand, ReducedModelAgainstFullFeAtTheRunsLoads)
         }
       EXPECT_NE(read_text(dir / name / "compare_pressure.csv").find("not the layer-alone problem"), std::string::npos);
     }
+  {
+    // The ring on the rigid foundation, then ring and housing joined by the
+    // layer (fem::WinklerPairNewmark, verified in tests/fem): more DoFs, and
+    // the steel housing's give lowers the peak under the balls.
+    const std::vector<Row> timings = read_csv(dir / "half-space" / "compare_transient.csv");
+    ASSERT_EQ(timings.size(), 2u);
+    const Row &rigid = timings[0], &meshed = timings[1];
+    std::printf("full-FE transients: ring alone %g DoFs, %.3e s per step, peak %.4e Pa; with the housing meshed "
+                "%g DoFs, %.3e s per step, peak %.4e Pa, %g factorisations\n",
+                rigid.at("dofs"), rigid.at("full_s_per_step"), rigid.at("peak_pressure_Pa"), meshed.at("dofs"),
+                meshed.at("full_s_per_step"), meshed.at("peak_pressure_Pa"), meshed.at("factorisations"));
+    EXPECT_EQ(rigid.at("housing_meshed"), 0.0);
+    EXPECT_EQ(meshed.at("housing_meshed"), 1.0);
+    EXPECT_GT(meshed.at("dofs"), rigid.at("dofs"));
+    EXPECT_EQ(meshed.at("steps"), 3.0);
+    EXPECT_GE(meshed.at("factorisations"), 1.0);
+    EXPECT_LT(meshed.at("peak_pressure_Pa"), rigid.at("peak_pressure_Pa"));
+    EXPECT_GT(meshed.at("peak_pressure_Pa"), 0.3 * rigid.at("peak_pressure_Pa"));
+  }
 
   // The full-FE transient: three of the run's mean steps (its time / its
   // 400 steps), timed against the run's 2 s / 400 steps.
@@ -673,6 +711,8 @@ TEST(CompareCommand, BadInputNamesTheParameterAndWritesNothing)
   // Another reduction (m = 12) of the same ring: the model file is not its.
   write_text(dir / "other.prm", std::regex_replace(small_ring(), std::regex("Fixed-interface modes = 16"),
                                                    "Fixed-interface modes = 12"));
+  write_text(dir / "wide.prm", std::regex_replace(small_housing(), std::regex("subsection Housing\n"),
+                                                  "subsection Ring\n  set Width = 0.02\nend\nsubsection Housing\n"));
 
   for (const auto &[setting, parameter] : std::vector<std::pair<std::string, std::string>>{
          {"Compare/Instants=0", "Compare/Instants"},
@@ -686,7 +726,11 @@ TEST(CompareCommand, BadInputNamesTheParameterAndWritesNothing)
          {"Model/Reduction configuration=nowhere.prm", "Model/Reduction configuration"},
          {"Compare/Results file=" + (dir / "missing.h5").string(), "Compare/Results file"},
          {"Compare/Results file=" + (dir / "narrow.h5").string(), "Compare/Results file"},
-         {"Compare/Results file=" + (dir / "model.h5").string(), "Compare/Results file"}})
+         {"Compare/Results file=" + (dir / "model.h5").string(), "Compare/Results file"},
+         // The housing meshed for the transient: missing, the ring, a bore off the ring.
+         {"Compare/Full transient housing=nowhere.prm", "Compare/Full transient housing"},
+         {"Compare/Full transient housing=ring.prm", "Compare/Full transient housing"},
+         {"Compare/Full transient housing=wide.prm", "Compare/Full transient housing"}})
     {
       const auto result = run_program("compare " + (dir / "scene.prm").string() + " -q --set '" + setting + "' -o " +
                                       (dir / "out").string());

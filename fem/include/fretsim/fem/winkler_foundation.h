@@ -138,8 +138,11 @@ namespace fretsim::fem
     /// and the loads' referenced objects must outlive the integrator.
     /// Collective. Throws std::invalid_argument for a time step that is not
     /// finite and > 0, and what WinklerFoundationSolver throws.
+    /// `initial_active`: a guess of the start's contact set (as for
+    /// WinklerFoundationSolver::solve; empty: every cell).
     WinklerNewmark(ElasticModel &model, const SurfaceGridMap &map, const WinklerLayer &layer, double time_step,
-                   const StaticLoad &initial_load, double start_time = 0.0);
+                   const StaticLoad &initial_load, double start_time = 0.0,
+                   const std::vector<unsigned char> &initial_active = {});
     ~WinklerNewmark();
     WinklerNewmark(const WinklerNewmark &)            = delete;
     WinklerNewmark &operator=(const WinklerNewmark &) = delete;
@@ -156,9 +159,11 @@ namespace fretsim::fem
     DisplacementField          displacement() const;
     /// ½vᵀMv + ½uᵀKu + ½ Σ k_n A max(d, 0)² - fᵀu at time() [J]. Collective.
     double       energy() const;
+    unsigned long n_dofs() const; ///< of the model
     unsigned int steps() const;
     unsigned int solves() const;         ///< linear solves over the steps
     unsigned int factorisations() const; ///< MUMPS factorisations over the steps
+    double       factorisation_seconds() const; ///< their wall time, part of step_seconds()
     double       step_seconds() const;   ///< wall time of the steps so far (not the static start)
 
   private:
@@ -195,9 +200,11 @@ namespace fretsim::fem
     /// std::invalid_argument for mismatched maps, a time step that is not
     /// finite and > 0, or a layer check_layer rejects; std::runtime_error if
     /// a layer cell's DoF is constrained other than to zero.
+    /// `initial_active`: a guess of the start's contact set (empty: every cell).
     WinklerPairNewmark(ElasticModel &ring, const SurfaceGridMap &ring_map, ElasticModel &housing,
                        const SurfaceGridMap &housing_map, const WinklerLayer &layer, double time_step,
-                       const StaticLoad &initial_ring_load, double start_time = 0.0);
+                       const StaticLoad &initial_ring_load, double start_time = 0.0,
+                       const std::vector<unsigned char> &initial_active = {});
     ~WinklerPairNewmark();
     WinklerPairNewmark(const WinklerPairNewmark &)            = delete;
     WinklerPairNewmark &operator=(const WinklerPairNewmark &) = delete;
@@ -221,6 +228,7 @@ namespace fretsim::fem
     unsigned int  steps() const;
     unsigned int  solves() const;         ///< linear solves over the steps
     unsigned int  factorisations() const; ///< joint factorisations over the steps
+    double        factorisation_seconds() const; ///< their wall time, part of step_seconds()
     double        step_seconds() const;   ///< wall time of the steps so far (not the static start)
 
   private:

@@ -5,6 +5,7 @@
 
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace fretsim::fem
@@ -39,6 +40,31 @@ namespace fretsim::fem
   /// Fills result.pressure = k_n max(d, 0) from its penetration and returns
   /// the foundation's energy ½ Σ k_n A max(d, 0)² [J] (`cell_stiffness` = k_n A).
   double foundation_pressure(double normal_stiffness, double cell_stiffness, WinklerGridSolution &result);
+
+  /// What a Winkler transient (WinklerNewmark, WinklerPairNewmark) keeps of
+  /// its steps: the foundation at time t and the counts over the steps.
+  struct WinklerStepRecord
+  {
+    double              dt = 0.0, t = 0.0;
+    WinklerGridSolution state; ///< the foundation at time t
+    double              seconds = 0.0, factorisation_seconds = 0.0;
+    unsigned int        steps = 0, factorisations = 0, solves = 0;
+
+    /// Adds the step that produced `next` (its wall time: since `seconds_taken`
+    /// was measured by the caller) and moves time on by dt.
+    const WinklerGridSolution &add_step(WinklerGridSolution next, double seconds_taken)
+    {
+      factorisations += next.factorisations;
+      factorisation_seconds += next.factorisation_seconds;
+      solves += next.iterations;
+      next.seconds = seconds_taken;
+      seconds += seconds_taken;
+      state = std::move(next);
+      t += dt;
+      ++steps;
+      return state;
+    }
+  };
 
   /// Throws std::invalid_argument (naming `solver`) unless k_n > 0 is finite
   /// and δ_fit is finite.

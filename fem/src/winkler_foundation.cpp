@@ -205,18 +205,14 @@ namespace fretsim::fem
 
   // ---- WinklerNewmark
 
-  struct WinklerNewmark::Impl
+  struct WinklerNewmark::Impl : WinklerStepRecord
   {
     ElasticModel                      *model = nullptr;
     const SurfaceGridMap              *map   = nullptr;
     WinklerLayer                       layer;
-    double                             dt = 0.0, t = 0.0;
     std::unique_ptr<WinklerFoundationSolver> step; ///< σ = -4/Δt²
     dealii::PETScWrappers::MPI::Vector u, v;       ///< owned
     StaticLoad                         load;       ///< f at time t
-    WinklerGridSolution                state;      ///< the foundation at time t
-    double                             seconds = 0.0, factorisation_seconds = 0.0;
-    unsigned int                       steps = 0, factorisations = 0, solves = 0;
   };
 
   WinklerNewmark::WinklerNewmark(ElasticModel &model, const SurfaceGridMap &map, const WinklerLayer &layer,
@@ -270,15 +266,7 @@ namespace fretsim::fem
     WinklerGridSolution next = p.step->impl->solve(rhs, p.state.active, u_new);
     advance_newmark_state(p.dt, u_new, p.u, p.v);
     p.load = load;
-    p.factorisations += next.factorisations;
-    p.factorisation_seconds += next.factorisation_seconds;
-    p.solves += next.iterations;
-    next.seconds = seconds_since(start);
-    p.seconds += next.seconds;
-    p.state = std::move(next);
-    p.t += p.dt;
-    ++p.steps;
-    return p.state;
+    return p.add_step(std::move(next), seconds_since(start));
   }
 
   double WinklerNewmark::time() const { return pimpl->t; }

@@ -75,12 +75,12 @@ namespace fretsim::fem
     }
   } // namespace
 
-  struct WinklerPairNewmark::Impl
+  struct WinklerPairNewmark::Impl : WinklerStepRecord
   {
     MPI_Comm     comm;
     Body         ring, housing;
     WinklerLayer layer;
-    double       k_area = 0.0, dt = 0.0, t = 0.0;
+    double       k_area = 0.0;
     PetscInt     joint_begin = 0, joint_end = 0, joint_size = 0;
     /// Per layer cell, both bodies' joint DoF indices and weights w_c.
     std::vector<std::vector<PetscInt>> cell_dofs;
@@ -106,9 +106,7 @@ namespace fretsim::fem
     std::unique_ptr<System> step_system;
 
     StaticLoad          ring_load; ///< at time t
-    WinklerGridSolution state, start;
-    double              seconds = 0.0, factorisation_seconds = 0.0;
-    unsigned int        steps = 0, factorisations = 0, solves = 0;
+    WinklerGridSolution start;     ///< the static start's foundation
 
     void gather_layer_cells();
     std::unique_ptr<System> build_system(double sigma) const;
@@ -497,15 +495,7 @@ namespace fretsim::fem
     advance_newmark_state(p.dt, ring_new, p.ring.u, p.ring.v);
     advance_newmark_state(p.dt, housing_new, p.housing.u, p.housing.v);
     p.ring_load = ring_load;
-    p.factorisations += next.factorisations;
-    p.factorisation_seconds += next.factorisation_seconds;
-    p.solves += next.iterations;
-    next.seconds = seconds_since(start);
-    p.seconds += next.seconds;
-    p.state = std::move(next);
-    p.t += p.dt;
-    ++p.steps;
-    return p.state;
+    return p.add_step(std::move(next), seconds_since(start));
   }
 
   double WinklerPairNewmark::time() const { return pimpl->t; }

@@ -34,7 +34,7 @@ namespace fretsim::reduction
   namespace
   {
     constexpr const char *format_name    = "fretsim reduced model";
-    constexpr int         format_version = 2; // 2: the residual flexibility (older files lack it: rebuilt)
+    constexpr int         format_version = 3; // 2: the ring's residual flexibility; 3: the housing's (older files: rebuilt)
 
     /// An HDF5 id closed on scope exit.
     class Id
@@ -319,13 +319,14 @@ namespace fretsim::reduction
           write_number_attribute(raceway_group, "contact_angle_rad", r.contact_angle);
           if (const ResidualFlexibility &residual = model.residual; !residual.empty())
             {
-              const hsize_t cells = residual.ball.size(), rows = static_cast<hsize_t>(g.grid.ny);
+              const hsize_t cells = g.grid.size(), rows = static_cast<hsize_t>(g.grid.ny);
               const char   *names[3] = {"pressure", "shear_x", "shear_y"};
               for (int k = 0; k < 3; ++k)
                 if (!residual.traction[k].empty())
                   write_array(file, std::string("/residual_flexibility/") + names[k], {rows, cells},
                               residual.traction[k]);
-              write_array(file, "/residual_flexibility/ball", {cells}, residual.ball);
+              if (!residual.ball.empty()) // a housing has no raceway
+                write_array(file, "/residual_flexibility/ball", {cells}, residual.ball);
               Id group(H5Gopen2(file, "/residual_flexibility", H5P_DEFAULT), H5Gclose);
               write_number_attribute(group, "column_angle_rad", residual.column_angle);
               write_number_attribute(group, "solves", residual.solves);
@@ -432,7 +433,8 @@ namespace fretsim::reduction
         if (H5Lexists(file, "/residual_flexibility", H5P_DEFAULT) > 0)
           {
             ResidualFlexibility &residual = model.residual;
-            residual.ball                 = read_array(file, "/residual_flexibility/ball");
+            if (H5Lexists(file, "/residual_flexibility/ball", H5P_DEFAULT) > 0)
+              residual.ball = read_array(file, "/residual_flexibility/ball");
             const char *names[3]          = {"pressure", "shear_x", "shear_y"};
             for (int k = 0; k < 3; ++k)
               if (const std::string name = std::string("/residual_flexibility/") + names[k];
@@ -446,7 +448,7 @@ namespace fretsim::reduction
             residual.column_angle = read_number_attribute(group, "column_angle_rad");
             residual.solves       = static_cast<unsigned int>(read_number_attribute(group, "solves"));
             residual.seconds      = read_number_attribute(group, "seconds");
-            if (residual.ball.size() != g.grid.size() || residual.traction[0].empty())
+            if ((!residual.ball.empty() && residual.ball.size() != g.grid.size()) || residual.traction[0].empty())
               throw std::runtime_error("residual flexibility does not match the interface grid");
           }
 

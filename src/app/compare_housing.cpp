@@ -2,6 +2,7 @@
 
 #include "app/parameters.h"
 #include "app/reduce_command.h"
+#include "app/reduced_statics.h"
 #include "app/ring_housing.h"
 
 #include <fretsim/fem/surface_grid_map.h>
@@ -101,9 +102,10 @@ namespace fretsim::app
     d.setup = seconds_since(start);
     d.dofs  = fe.n_dofs();
 
-    const std::size_t   n     = d.model.matrices.size();
-    const std::size_t   cells = d.model.interface_grid.grid.size();
-    const double        area  = d.model.interface_grid.grid.cell_area();
+    const std::size_t       n     = d.model.matrices.size();
+    const fem::CylinderGrid &grid = d.model.interface_grid.grid;
+    const std::size_t       cells = grid.size();
+    const double            area  = grid.cell_area();
     std::vector<Result> results;
     for (const Instant &instant : instants)
       {
@@ -147,7 +149,15 @@ namespace fretsim::app
             worst = std::max(worst, std::abs(u_r[c] - reference[c]));
           return worst / result.full_max_u_r;
         };
-        result.reduced_error  = error(reduced, full);
+        result.reduced_error          = error(reduced, full);
+        result.reduced_residual_error = std::numeric_limits<double>::quiet_NaN();
+        if (!d.model.residual.empty())
+          {
+            std::vector<double> with_residual = residual_u_r(d.model.residual, grid, tractions, {}, {});
+            for (std::size_t c = 0; c < cells; ++c)
+              with_residual[c] += reduced[c];
+            result.reduced_residual_error = error(with_residual, full);
+          }
         result.run_error      = std::numeric_limits<double>::quiet_NaN();
         result.run_vs_reduced = std::numeric_limits<double>::quiet_NaN();
         if (instant.run_q.size() == n)

@@ -37,6 +37,10 @@ namespace fretsim::app
     {
       double full_max_u_r = 0.0;  ///< the full FE bore's largest |u_r| [m]
       double reduced_error = 0.0; ///< the reduced model solved statically: max |Δu_r| / full_max_u_r [-]
+      /// The same with the model's residual flexibility of the pressure
+      /// added (Interface/Housing residual flexibility); nan if the model
+      /// file has none [-].
+      double reduced_residual_error = 0.0;
       double run_error = 0.0;     ///< the run's own q_h (dynamic), the same measure [-]; nan without it
       /// The run's q_h against the reduced static solution, the same measure:
       /// the housing's inertia at the instant, and a check that the

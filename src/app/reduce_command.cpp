@@ -514,8 +514,11 @@ namespace fretsim::app
     ReduceRequest         request    = read_request(parameters);
     const std::string     model_path = options.output.empty() ? default_output(options, "-model.h5") : options.output;
 
-    const fem::ParallelEnvironment mpi;
-    const bool                     root = fem::ParallelEnvironment::rank() == 0;
+    // MPI starts once per process: a scene building two models runs both in its own.
+    std::unique_ptr<fem::ParallelEnvironment> mpi;
+    if (!fem::ParallelEnvironment::active())
+      mpi = std::make_unique<fem::ParallelEnvironment>();
+    const bool root = fem::ParallelEnvironment::rank() == 0;
     const auto                     total_start = Clock::now();
     auto mesh = std::make_shared<const fem::Mesh>(build_ring_housing_mesh(request.body, options.config_file));
     fem::ElasticModel model(mesh, request.body.materials, request.body.degree, supports(request.clamped_surfaces));
@@ -557,10 +560,19 @@ namespace fretsim::app
       }
     const double raceway_seconds = seconds_since(raceway_start);
     // The basis's residual flexibility on the interface grid, for the
-    // co-simulation's local compliance (Interface/Ring residual flexibility):
-    // a free ring with a raceway and a grid (inertia relief needs the six
-    // rigid motions among the coordinates). Pressure only: that is what the
-    // co-simulation uses.
+    // co-simulation's local compliance (Interface/Ring residual flexibility,
+    // Interface/Housing residual flexibility): a free ring with a raceway and
+    // a grid (inertia relief needs the six rigid motions among the
+    // coordinates), or a housing held somewhere with a grid on its bore.
+    // Pressure only: that is what the co-simulation uses.
+    if (request.body.bodies == "housing" && !request.clamped_surfaces.empty() && grid.nx > 0 &&
+        request.grid_surface == fem::BoundaryId::housing_bore)
+      {
+        display("residual flexibility", 0.0);
+        fem::ShiftedStaticSolver  solver(model, 0.0);
+        const fem::SurfaceGridMap map(model, request.grid_surface, grid);
+        result.residual = residual_flexibility(solver, map, whole_model(result, 0.0), grid, {}, 1, true);
+      }
     if (request.body.bodies == "ring" && request.clamped_surfaces.empty() && grid.nx > 0 &&
         !result.raceway.angles.empty() && starts_with_rigid_motions(result.matrices))
       {
@@ -603,7 +615,8 @@ namespace fretsim::app
               << 1e3 * request.footprint_transverse << " mm) in " << std::setprecision(2) << raceway_seconds
               << " s\n";
         if (!result.residual.empty())
-          out << "residual:     R = K^-1 - T K_r^-1 T^T of the pressure on the interface grid and of a ball, from "
+          out << "residual:     R = K^-1 - T K_r^-1 T^T of the pressure on the interface grid"
+              << (result.residual.ball.empty() ? "" : " and of a ball") << ", from "
               << result.residual.solves << " full and reduced solves in " << std::setprecision(2)
               << result.residual.seconds << " s\n";
         out << std::scientific << std::setprecision(1) << "symmetry:     |K_r - K_r^T| "

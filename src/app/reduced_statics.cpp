@@ -9,6 +9,7 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -191,16 +192,23 @@ namespace fretsim::app
   reduction::ResidualFlexibility residual_flexibility(fem::ShiftedStaticSolver &solver, const fem::SurfaceGridMap &map,
                                                       const Truncation &whole, const fem::CylinderGrid &grid,
                                                       const std::function<fem::RacewayBallLoad(double, double)> &ball,
-                                                      int components)
+                                                      int components, bool housing_bore)
   {
     const auto                     start = std::chrono::steady_clock::now();
     reduction::ResidualFlexibility residual;
     residual.column_angle = grid.x(0) / grid.radius;
     const double area     = grid.cell_area();
+    std::vector<double> whole_factor;
+    if (housing_bore)
+      {
+        whole_factor = whole.shifted;
+        cholesky(whole_factor, whole.n);
+      }
     // u_r of the full FE solution minus the reduced model's, per cell.
     const auto difference = [&](const fem::StaticLoad &load, const std::vector<double> &generalised) {
       std::vector<double>       u_r     = map.interpolate(solver.solve(load)).u_r;
-      const std::vector<double> q       = relieved_static(whole, generalised);
+      const std::vector<double> q =
+        housing_bore ? cholesky_solve(whole_factor, whole.n, generalised) : relieved_static(whole, generalised);
       const std::vector<double> reduced = apply(whole.grid_displacement, whole.n, q); // [cell][3]
       for (std::size_t c = 0; c < u_r.size(); ++c)
         u_r[c] -= reduced[3 * c];
@@ -219,10 +227,11 @@ namespace fretsim::app
             field[cell]            = 1.0 / area; // 1 N on the cell
             fem::StaticLoad load;
             load.grid_tractions.push_back({&map, &unit});
-            // Tᵀ f of that force: the cell's row of the component (pressure pushes in)
+            // Tᵀ f of that force: the cell's row of the component (the
+            // pressure pushes into the body, so inward on the ring)
             std::vector<double> g(whole.grid_displacement.begin() + static_cast<std::ptrdiff_t>((3 * cell + k) * whole.n),
                                   whole.grid_displacement.begin() + static_cast<std::ptrdiff_t>((3 * cell + k + 1) * whole.n));
-            if (k == 0)
+            if (k == 0 && !housing_bore)
               for (double &value : g)
                 value = -value;
             const std::vector<double> column = difference(load, g);
@@ -230,13 +239,47 @@ namespace fretsim::app
             field[cell] = 0.0;
           }
       }
-    fem::StaticLoad load;
-    load.ball_loads.push_back(ball(residual.column_angle, 1.0));
-    std::vector<double> g(whole.n, 0.0);
-    add_ball_row(whole, residual.column_angle, 1.0, g);
-    residual.ball    = difference(load, g);
+    if (ball)
+      {
+        fem::StaticLoad load;
+        load.ball_loads.push_back(ball(residual.column_angle, 1.0));
+        std::vector<double> g(whole.n, 0.0);
+        add_ball_row(whole, residual.column_angle, 1.0, g);
+        residual.ball = difference(load, g);
+      }
     residual.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return residual;
+  }
+
+  std::vector<double> residual_u_r(const reduction::ResidualFlexibility &residual, const fem::CylinderGrid &grid,
+                                   const fem::GridTractions &tractions, const std::vector<double> &ball_angles,
+                                   const std::vector<double> &ball_loads)
+  {
+    const int           nx = grid.nx, ny = grid.ny;
+    const double        cell_area = grid.cell_area();
+    const std::size_t   cells     = static_cast<std::size_t>(nx) * ny;
+    std::vector<double> u(cells, 0.0);
+    const std::array<const std::vector<double> *, 3> loads{&tractions.pressure, &tractions.shear_x,
+                                                           &tractions.shear_y};
+    for (int k = 0; k < 3; ++k)
+      if (!residual.traction[k].empty())
+        for (int j = 0; j < ny; ++j)
+          for (int i0 = 0; i0 < nx; ++i0)
+            {
+              // the table is per unit force of the traction (the pressure pushing into the body)
+              const double force = (*loads[k])[static_cast<std::size_t>(j * nx + i0)] * cell_area;
+              if (force == 0.0)
+                continue;
+              const double *column = residual.traction[k].data() + static_cast<std::size_t>(j) * cells;
+              for (int jj = 0; jj < ny; ++jj)
+                for (int i = 0; i < nx; ++i)
+                  u[static_cast<std::size_t>(jj * nx + i)] +=
+                    force * column[static_cast<std::size_t>(jj * nx + (i - i0 + nx) % nx)];
+            }
+    if (!residual.ball.empty())
+      coupling::add_ball_residual({nx, ny, grid.hx, grid.hy, grid.x_min, grid.y_min}, grid.radius, residual.ball,
+                                  residual.column_angle, ball_angles, ball_loads, u);
+    return u;
   }
 
   double ResidualWinklerSolution::peak() const

@@ -5,6 +5,7 @@
 // which `reduce` stores for the co-simulation and `compare` checks against
 // the full FE. Internal to the program (app).
 #include <fretsim/fem/elastic_model.h>
+#include <fretsim/fem/surface_grid_map.h>
 #include <fretsim/reduction/reduced_model.h>
 
 #include <cstddef>
@@ -80,14 +81,30 @@ namespace fretsim::app
   /// grid (reduction::ResidualFlexibility): unit forces of the first
   /// `components` traction components (1: pressure only; 3: all) on each cell
   /// of the grid's first column, and a unit ball at its angle (`ball(angle,
-  /// force)` the raceway patch the model's operator was made with), each
-  /// solved by the full FE (`solver`, with inertia relief, sampled by `map`)
-  /// and by the whole model; R is the difference. Collective.
+  /// force)` the raceway patch the model's operator was made with; empty: no
+  /// ball), each solved by the full FE (`solver`, sampled by `map`) and by the
+  /// whole model; R is the difference. The body is a free ring on its outer
+  /// surface (`solver` and the reduced solves with inertia relief, the
+  /// pressure pushing inward) or a housing held at its outside on its bore
+  /// (`housing_bore`: plain static solves, the pressure pushing outward).
+  /// Collective.
   reduction::ResidualFlexibility residual_flexibility(fem::ShiftedStaticSolver &solver,
                                                       const fem::SurfaceGridMap &map, const Truncation &whole,
                                                       const fem::CylinderGrid &grid,
                                                       const std::function<fem::RacewayBallLoad(double, double)> &ball,
-                                                      int components);
+                                                      int components, bool housing_bore = false);
+  /// The residual flexibility (residual_flexibility()) applied to tractions
+  /// on the grid and to ball loads (the ring's; none without its ball table):
+  /// the outward u_r per cell [m]. Taken circulant in θ, the body being
+  /// axisymmetric; the mesh's divisions need not be the grid's columns, and
+  /// that difference is the approximation's error: a load on column i0 acts
+  /// as the first column's, shifted by i0, and a ball between columns as the
+  /// table interpolated. Components without a table are left out. `compare`'s
+  /// check of what the co-simulation adds: reduced + R against the full FE.
+  std::vector<double> residual_u_r(const reduction::ResidualFlexibility &residual, const fem::CylinderGrid &grid,
+                                   const fem::GridTractions &tractions, const std::vector<double> &ball_angles,
+                                   const std::vector<double> &ball_loads);
+
   /// The whole model on a Winkler layer (stiffness k_n, interference
   /// `fit`, the outward u_r rows of its interface operator) with its
   /// residual flexibility in series (coupling::LocalCompliance) under the

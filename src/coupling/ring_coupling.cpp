@@ -30,10 +30,9 @@ namespace fretsim::coupling
       fail("the interface radius must be positive");
     if (raceway_angles < 4 || raceway_approach.size() != raceway_angles * n)
       fail("the raceway ball operator must have n values at each of at least 4 angles");
-    if (residual_pressure.empty() != residual_ball.empty() ||
-        (!residual_pressure.empty() && (residual_pressure.size() != interface_grid.size() * interface_grid.ny ||
-                                        residual_ball.size() != interface_grid.size())))
-      fail("the residual flexibility must have [rows][cells] pressure and [cells] ball entries");
+    if ((!residual_pressure.empty() && residual_pressure.size() != interface_grid.size() * interface_grid.ny) ||
+        (!residual_ball.empty() && (residual_pressure.empty() || residual_ball.size() != interface_grid.size())))
+      fail("the residual flexibility must have [rows][cells] pressure entries and none or [cells] ball entries");
   }
 
   void add_ball_residual(const contact::SurfaceGrid &grid, double radius, const std::vector<double> &table,
@@ -78,6 +77,8 @@ namespace fretsim::coupling
            " m): build both with the same Ring/Outer radius, Ring/Width and interface grid cells");
     if (housing.interface_displacement.size() != a.size() * 3 * n_h)
       fail("its interface operator must have 3 n values per grid cell");
+    if (!housing.residual_pressure.empty() && housing.residual_pressure.size() != a.size() * a.ny)
+      fail("its residual flexibility must have [rows][cells] entries");
 
     ReducedRing joint;
     joint.n                           = n;
@@ -87,6 +88,11 @@ namespace fretsim::coupling
     joint.interface_grid              = ring.interface_grid;
     joint.raceway_angles              = ring.raceway_angles;
     joint.residual_pressure           = ring.residual_pressure;
+    if (joint.residual_pressure.empty())
+      joint.residual_pressure = housing.residual_pressure;
+    else if (!housing.residual_pressure.empty())
+      for (std::size_t k = 0; k < joint.residual_pressure.size(); ++k)
+        joint.residual_pressure[k] += housing.residual_pressure[k];
     joint.residual_ball               = ring.residual_ball;
     joint.residual_column_angle       = ring.residual_column_angle;
     joint.mass.assign(n * n, 0.0);

@@ -23,7 +23,8 @@
 //    the interface (R = K⁻¹ − T K_r⁻¹ Tᵀ, orthogonal to what the basis
 //    holds, so adding it counts nothing twice) joins the half-space in
 //    series with the layer; a ball's residual displacement of the interface
-//    adds to the penetration.
+//    adds to the penetration. A flexible housing's own R_h joins it in
+//    series in the same way.
 //  * ball contacts: the Hertz law carries the local indentation of ball and
 //    raceways; the reduced model the ring's global deformation, read as the
 //    work-conjugate approach r(ψ)·q of a Hertz-distributed unit ball load.
@@ -61,13 +62,16 @@ namespace fretsim::coupling
     std::vector<double> raceway_approach; ///< [n_angles][n]
     std::size_t         raceway_angles = 0;
 
-    /// The ring's residual flexibility (what its basis misses of its static
+    /// The residual flexibility (what a basis misses of its body's static
     /// compliance; reduction::ResidualFlexibility), in the interface's
-    /// terms; both empty: none. `residual_pressure` [load row jj][cell]: the
-    /// inward displacement of every cell per unit pressure on cell (0, jj)
-    /// [m/Pa] (LocalCompliance's structural compliance); `residual_ball`
-    /// [cell]: the outward u_r per N of a ball at `residual_column_angle`
-    /// [m/N], shifted around with each ball.
+    /// terms; empty: none. `residual_pressure` [load row jj][cell]: how far
+    /// the interface's gap opens at every cell per unit pressure on cell
+    /// (0, jj) [m/Pa] (LocalCompliance's structural compliance): the ring's
+    /// inward displacement, plus with a flexible housing its bore's outward
+    /// one; `residual_ball` [cell] (the ring's; empty: none, and then
+    /// `residual_pressure` may be the housing's alone): the outward u_r per N
+    /// of a ball at `residual_column_angle` [m/N], shifted around with each
+    /// ball.
     std::vector<double> residual_pressure, residual_ball;
     double              residual_column_angle = 0.0;
 
@@ -97,6 +101,9 @@ namespace fretsim::coupling
     double               interface_radius = 0.0;
     contact::SurfaceGrid interface_grid;
     std::vector<double>  interface_displacement;
+    /// Its residual flexibility (optional): the bore's outward displacement
+    /// of every cell per unit pressure on cell (0, jj), [jj][cell] [m/Pa].
+    std::vector<double> residual_pressure;
   };
 
   /// The ring and a flexible housing as one system for the co-simulation:
@@ -105,8 +112,9 @@ namespace fretsim::coupling
   /// [G T | −G_h T_h] per cell row. The interface contact then sees the gap
   /// between the two surfaces, and its tractions return to both bodies, equal
   /// and opposite, through the same rows (still consistent and conservative).
-  /// The balls act on the ring's columns only. Throws std::invalid_argument if
-  /// the two interface grids or radii differ.
+  /// The balls act on the ring's columns only. The two bodies' residual
+  /// flexibilities, both opening the gap under the pressure, add in series.
+  /// Throws std::invalid_argument if the two interface grids or radii differ.
   ReducedRing with_flexible_housing(const ReducedRing &ring, const ReducedHousing &housing);
 
   /// What the integrator sees of the bristles within a step (InterfaceContact).

@@ -13,6 +13,7 @@
 
 #include <fretsim/contact/dang_van.h>
 #include <fretsim/contact/subsurface_stress.h>
+#include <fretsim/fem/parallel_environment.h>
 #include <fretsim/reduction/reduced_model.h>
 
 #include <algorithm>
@@ -51,8 +52,11 @@ namespace fretsim::scenes
 
     /// Reads the model file, or builds it with `fretsim reduce` when it is
     /// missing or was made from other inputs (if allowed).
+    /// `mpi`: started on the first build and kept for the next (MPI starts
+    /// only once per process); a scene whose models are there never starts it.
     reduction::ReducedModel load_or_build(const ModelSource &source, bool build, bool progress,
-                                          const app::SceneParameters &scene, bool &built)
+                                          const app::SceneParameters &scene, bool &built,
+                                          std::unique_ptr<fem::ParallelEnvironment> &mpi)
     {
       try
         {
@@ -74,6 +78,8 @@ namespace fretsim::scenes
           reduce.overrides.emplace_back("Reduction/Compare with full FE", "false");
           reduce.progress    = progress;
           reduce.plots       = false;
+          if (!fem::ParallelEnvironment::active())
+            mpi = std::make_unique<fem::ParallelEnvironment>();
           app::run_reduce_command(reduce, std::cerr);
           built = true;
           return reduction::read_model_file(source.file, source.expected_hash);
@@ -144,6 +150,7 @@ namespace fretsim::scenes
     double                         ring_poisson_ratio = 0.3;
     std::string                    local_compliance   = "none"; ///< Interface/Local compliance
     bool                           ring_residual      = true;   ///< Interface/Ring residual flexibility
+    bool                           housing_residual   = true;   ///< Interface/Housing residual flexibility
     std::string                    in_step_bristle_law = "implicit Euler"; ///< Interface/In-step bristle law
     std::string                    stage_predictor = "cutoff order";       ///< Integrator/Stage predictor
     int                            samples_per_ball_pass = 40;
@@ -243,6 +250,11 @@ namespace fretsim::scenes
                     "to its penetration: the pressure under a ball as the full FE ring gives it, whatever the "
                     "basis size (README). Not with Local compliance = both, which stands for the same "
                     "compliance [-].", "true|false"),
+      Spec::selection("Interface/Housing residual flexibility", "true",
+                      "With a flexible housing (Model/Housing reduction configuration): add the part of the "
+                      "housing's static compliance its reduced basis misses on its bore (R_h = K^-1 - T K_r^-1 T^T, "
+                      "stored by `fretsim reduce` in its model file) in series with the layer, as the ring's "
+                      "(README) [-].", "true|false"),
       Spec::positive("Interface/Housing Young's modulus", "2.08e11",
                      "E of the rigid housing's material, for its local compliance [Pa]."),
       Spec::real_range("Interface/Housing Poisson ratio", "0.3", "nu of the housing's material [-].", 0.0, 0.5,
@@ -414,6 +426,7 @@ namespace fretsim::scenes
       par.reject("Interface/Ring residual flexibility",
                  "false with Local compliance = both: the ring's half-space and its residual flexibility stand for "
                  "the same local compliance");
+    s.housing_residual = par.get_bool("Interface/Housing residual flexibility");
     s.run.damping_ratio            = par.get_double("Ring/Damping ratio");
 
     auto &integrator                  = s.run.integrator;
@@ -494,8 +507,9 @@ namespace fretsim::scenes
     namespace fs = std::filesystem;
 
     // 1. The reduced models: read them, or build them when missing or stale.
-    bool built = false;
-    const reduction::ReducedModel model = load_or_build(s.ring_model, s.build_model, options.progress, parameters, built);
+    bool                                      built = false;
+    std::unique_ptr<fem::ParallelEnvironment> mpi;
+    const reduction::ReducedModel model = load_or_build(s.ring_model, s.build_model, options.progress, parameters, built, mpi);
     auto ring = reduced_ring(model);
     if (s.ring_residual)
       {
@@ -520,16 +534,31 @@ namespace fretsim::scenes
       }
     if (s.housing_model)
       {
-        const auto housing_model = load_or_build(*s.housing_model, s.build_model, options.progress, parameters, built);
+        const auto housing_model = load_or_build(*s.housing_model, s.build_model, options.progress, parameters, built, mpi);
+        auto       housing       = reduced_body<coupling::ReducedHousing>(housing_model);
+        if (s.housing_residual)
+          {
+            if (housing_model.residual.empty())
+              parameters.reject("Interface/Housing residual flexibility",
+                                "false, or a housing model file with its residual flexibility: '" +
+                                  s.housing_model->file +
+                                  "' has none (a housing held at Reduction/Clamped surfaces with an interface grid "
+                                  "on its bore has)");
+            // The bore moves out under the pressure: the gap opens.
+            housing.residual_pressure = housing_model.residual.inward_per_pressure(housing.interface_grid.cell_area());
+            for (double &value : housing.residual_pressure)
+              value = -value;
+          }
         try
           {
-            ring = coupling::with_flexible_housing(ring, reduced_body<coupling::ReducedHousing>(housing_model));
+            ring = coupling::with_flexible_housing(ring, housing);
           }
         catch (const std::invalid_argument &error)
           {
             parameters.reject("Model/Housing model file", error.what());
           }
       }
+    mpi.reset(); // the models are built: the run needs no MPI
     const double model_seconds = seconds_since(run_start);
     const auto &grid = ring.interface_grid;
 
@@ -713,6 +742,7 @@ namespace fretsim::scenes
     summary.set("in_step_bristle_law", s.in_step_bristle_law);
     summary.set("local_compliance_modulus_Pa", s.run.interface.local_compliance_modulus);
     summary.set("ring_residual_flexibility", s.ring_residual);
+    summary.set("housing_residual_flexibility", s.housing_model && s.housing_residual);
     summary.set("ball_count", static_cast<long long>(s.run.bearing.ball_count));
     summary.set("pitch_diameter_m", s.run.bearing.pitch_diameter);
     summary.set("ball_contact_stiffness_N_per_m1.5", s.run.ball_stiffness);

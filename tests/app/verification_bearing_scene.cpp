@@ -35,10 +35,15 @@ namespace
                                  "  set Sample points per line = 8\n  set Raceway ball positions = 360\nend\n";
 
   /// The housing of the small ring, held at its outside, reduced on its bore.
+  /// As many divisions around as the grid has columns: then every column
+  /// sits on the mesh as the first does, as the circulant residual
+  /// flexibility takes it (with 48 divisions its u_r error at the run's
+  /// tractions went only from 0.070 to 0.045 with R_h, against 0.18-0.20 to
+  /// 0.017-0.026 with 72).
   const std::string small_housing =
     "set Scene = ring_housing\n"
     "subsection Mesh\n  set Bodies = housing\n  set Element degree = 1\nend\n"
-    "subsection Divisions\n  set Circumferential = 48\n  set Radial housing = 2\n"
+    "subsection Divisions\n  set Circumferential = 72\n  set Radial housing = 2\n"
     "  set Axial = 2\n  set Axial land = 1\nend\n"
     "subsection Reduction\n  set Coupling surfaces = housing_bore\n"
     "  set Clamped surfaces = housing_outer\n  set Fixed-interface modes = 10\n"
@@ -160,21 +165,25 @@ TEST(BearingScene, AFlexibleHousingTakesItsShareAndAStiffOneIsTheRigidHousing)
   write_text(dir / "ring.prm", small_ring);
   write_text(dir / "housing.prm", small_housing);
   write_text(dir / "stiff.prm", small_housing + "subsection Housing material\n  set Young's modulus = 2.08e15\nend\n");
-  const auto run = [&](const std::string &name, const std::string &housing_config) {
-    // Without the ring's residual flexibility: its sharper pressure under
-    // the balls is more than the housing's 30 bore modes follow (their
-    // u_r error against the housing's full FE 0.54-0.62 with it, below).
-    const std::string extra = "subsection Interface\n  set Damping time = 0\n"
-                              "  set Ring residual flexibility = false\nend\n"
+  const auto run = [&](const std::string &name, const std::string &housing_config, const std::string &options = "") {
+    // Both bodies with their residual flexibility (the defaults): the
+    // ring's sharp pressure under the balls is more than the housing's 30
+    // bore modes follow (their u_r error against its full FE 0.54-0.62
+    // without R_h), what they miss R_h holds (below).
+    const std::string extra = "subsection Interface\n  set Damping time = 0\nend\n"
                               "subsection Model\n  set Housing reduction configuration = " + housing_config +
-                              "\n  set Housing model file = " + (dir / (name + "-model.h5")).string() + "\nend\n";
+                              "\n  set Housing model file = " + (dir / (housing_config + "-model.h5")).string() +
+                              "\nend\n";
     write_text(dir / (name + ".scene.prm"), scene(dir, extra));
     const auto result = run_program("run " + (dir / (name + ".scene.prm")).string() + " -q --no-plots -o " +
-                                    (dir / name).string() + " --set 'Loading/Ball pass periods=2'");
+                                    (dir / name).string() + " --set 'Loading/Ball pass periods=2' " + options);
     EXPECT_EQ(result.exit_code, 0) << result.output;
     return (dir / name / "results.h5").string();
   };
-  const auto rigid = run("rigid", ""), stiff = run("stiff", "stiff.prm"), steel = run("steel", "housing.prm");
+  // The steel run first: it builds the ring's model and the housing's in
+  // one process (MPI starts once: both builds share it).
+  const auto steel = run("steel", "housing.prm"), rigid = run("rigid", ""), stiff = run("stiff", "stiff.prm");
+  const auto basis_only = run("basis_only", "housing.prm", "--set 'Interface/Housing residual flexibility=false'");
 
   EXPECT_EQ(ResultsFile::read_string_attribute(steel, "/", "housing"), "flexible");
   EXPECT_EQ(ResultsFile::read_string_attribute(rigid, "/", "housing"), "rigid");
@@ -184,7 +193,9 @@ TEST(BearingScene, AFlexibleHousingTakesItsShareAndAStiffOneIsTheRigidHousing)
   EXPECT_EQ(dims[1], 40u + 40u); // the ring's 30 + 10 coordinates, then the housing's
 
   // Stiff housing = rigid housing: the pressure field at every sample within
-  // 5 % of its peak (measured 3.3 %: the step sequences differ).
+  // 1 % of its peak (measured 0.16 %: the step sequences differ; 3.3 % when
+  // the runs were without the residual flexibilities, on the layer's C¹
+  // closure law, which the local compliance's solve does not use).
   const auto p_rigid = ResultsFile::read_dataset(rigid, "/fields/pressure", &dims);
   const auto p_stiff = ResultsFile::read_dataset(stiff, "/fields/pressure");
   ASSERT_EQ(p_rigid.size(), p_stiff.size());
@@ -201,7 +212,7 @@ TEST(BearingScene, AFlexibleHousingTakesItsShareAndAStiffOneIsTheRigidHousing)
       worst = std::max(worst, difference / peak);
     }
   std::printf("stiff housing against rigid: pressure %.3g of the peak at worst\n", worst);
-  EXPECT_LT(worst, 0.05);
+  EXPECT_LT(worst, 0.01);
 
   // Steel: the housing gives way, the balls carry less (the inner ring's
   // displacement is prescribed), and what they push still ends in the housing.
@@ -210,10 +221,21 @@ TEST(BearingScene, AFlexibleHousingTakesItsShareAndAStiffOneIsTheRigidHousing)
   const double peak_rigid = *std::max_element(loads_rigid.begin(), loads_rigid.end()),
                peak_steel = *std::max_element(loads_steel.begin(), loads_steel.end());
   std::printf("peak ball load: rigid housing %.1f N, steel housing %.1f N\n", peak_rigid, peak_steel);
-  // Measured 1.7 % less: the housing gives a few micrometres (k_h ~ E' / wall ≈ 1e13 Pa/m over the loaded
+  // Measured 2.3 % less (4 428 against 4 534 N): the housing gives a few micrometres (k_h ~ E' / wall ≈ 1e13 Pa/m over the loaded
   // area) against the balls' ~30 µm Hertz deflection, so a few per cent, not tens.
   EXPECT_LT(peak_steel, 0.995 * peak_rigid);
   EXPECT_GT(peak_steel, 0.9 * peak_rigid);
+  // The housing's residual flexibility is compliance in series with the
+  // layer, where the pressure under a ball is sharpest: with it the peak
+  // falls (it rises if R_h is added with the wrong sign, closing the gap).
+  const auto peak_pressure = [](const std::string &file) {
+    const auto p = ResultsFile::read_dataset(file, "/fields/pressure");
+    return *std::max_element(p.begin(), p.end());
+  };
+  const double peak_with = peak_pressure(steel), peak_without = peak_pressure(basis_only);
+  std::printf("steel housing: peak pressure %.4g Pa with its residual flexibility, %.4g Pa without\n", peak_with,
+              peak_without);
+  EXPECT_LT(peak_with, 0.995 * peak_without); // measured 60.7 against 61.6 MPa (-1.6 %)
   const auto interface = ResultsFile::read_dataset(steel, "/series/interface_force_y");
   const auto balls     = ResultsFile::read_dataset(steel, "/series/ball_load_total_y");
   EXPECT_NEAR(interface.back(), -balls.back(), 0.01 * balls.back());
@@ -245,9 +267,16 @@ TEST(BearingScene, AFlexibleHousingTakesItsShareAndAStiffOneIsTheRigidHousing)
   for (const Row &row : housing_rows)
     {
       EXPECT_GT(row.at("full_max_u_r_m"), 0.0);
-      // 30 interface modes on the 72 x 4 bore grid: measured 0.23-0.26 (the
-      // truncation the README describes); with the pressure's sign wrong ~2.
-      EXPECT_LT(row.at("reduced_u_r_error"), 0.4);
+      // 30 interface modes on the 72 x 4 bore grid under the ring's sharp
+      // pressure: measured 0.55-0.58 (the truncation the README describes);
+      // with the pressure's sign wrong ~2.
+      EXPECT_LT(row.at("reduced_u_r_error"), 0.8);
+      // With its residual flexibility of the pressure (what the run adds in
+      // series): measured 0.012-0.014; what is left is mostly the shear's
+      // residual, which the table leaves out.
+      const double with_residual = row.at("reduced_with_residual_u_r_error");
+      EXPECT_LT(with_residual, 0.03);
+      EXPECT_LT(with_residual, 0.25 * row.at("reduced_u_r_error"));
       // The run's q_h is the static solution of the same tractions up to the
       // housing's inertia: measured 4e-4 to 1.1e-3; with the shear passed
       // with the ring's sign instead of the opposite, 2.5e-2 to 3.7e-2.

@@ -365,6 +365,28 @@ TEST(FlexibleHousing, TheJointOperatorIsTheRelativeDisplacementAndTheBodiesStayU
     for (std::size_t j = 0; j < 8; ++j)
       EXPECT_EQ(joint.raceway_approach[k * 8 + j], j < 5 ? ring.raceway_approach[k * 5 + j] : 0.0);
 
+  // The residual flexibilities: the housing's alone, or added to the ring's
+  // (both open the gap under the pressure); a table of another size refused.
+  const std::size_t table = ring.interface_grid.size() * ring.interface_grid.ny;
+  housing.residual_pressure.assign(table, 0.0);
+  for (std::size_t k = 0; k < table; ++k)
+    housing.residual_pressure[k] = 1e-12 * static_cast<double>(k % 7);
+  const auto housing_only = with_flexible_housing(ring, housing);
+  EXPECT_EQ(housing_only.residual_pressure, housing.residual_pressure);
+  EXPECT_TRUE(housing_only.residual_ball.empty());
+  EXPECT_NO_THROW(housing_only.check());
+  ReducedRing with_residual = ring;
+  with_residual.residual_pressure.assign(table, 2e-12);
+  with_residual.residual_ball.assign(ring.interface_grid.size(), 1e-9);
+  const auto both = with_flexible_housing(with_residual, housing);
+  for (std::size_t k = 0; k < table; ++k)
+    EXPECT_DOUBLE_EQ(both.residual_pressure[k], 2e-12 + housing.residual_pressure[k]);
+  EXPECT_EQ(both.residual_ball, with_residual.residual_ball);
+  ReducedHousing wrong_table = housing;
+  wrong_table.residual_pressure.pop_back();
+  EXPECT_THROW(with_flexible_housing(ring, wrong_table), std::invalid_argument);
+  housing.residual_pressure.clear();
+
   // A housing on another grid is refused, naming both grids.
   ReducedHousing coarse = housing;
   coarse.interface_grid.nx = 12;

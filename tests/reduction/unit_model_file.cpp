@@ -81,6 +81,30 @@ TEST(ModelFile, RoundTrip)
   EXPECT_EQ(back.raceway.semi_axis_circumferential, original.raceway.semi_axis_circumferential);
   EXPECT_EQ(back.raceway.semi_axis_transverse, original.raceway.semi_axis_transverse);
   EXPECT_EQ(back.raceway.contact_angle, original.raceway.contact_angle);
+  EXPECT_TRUE(back.residual.empty());
+}
+
+TEST(ModelFile, ResidualFlexibilityRoundTripsWithAndWithoutItsBallTable)
+{
+  // A ring's residual flexibility has a ball table; a housing's (no
+  // raceway) has the pressure's alone, and must read back as present.
+  for (const bool with_ball : {true, false})
+    {
+      ReducedModel model = example();
+      auto        &residual = model.residual;
+      residual.column_angle = 0.5 / 0.04;
+      residual.traction[0]  = {1e-12 / 3.0, 5e-324}; // [1 row][2 cells]
+      if (with_ball)
+        residual.ball = {1e-10, -1e-10 / 3.0};
+      const auto path = scratch(with_ball ? "ring_residual.h5" : "housing_residual.h5");
+      write_model_file(path.string(), model);
+      const ReducedModel back = read_model_file(path.string(), fingerprint("inputs"));
+      EXPECT_FALSE(back.residual.empty()) << with_ball;
+      EXPECT_EQ(back.residual.traction[0], residual.traction[0]);
+      EXPECT_TRUE(back.residual.traction[1].empty());
+      EXPECT_EQ(back.residual.ball, residual.ball);
+      EXPECT_EQ(back.residual.column_angle, residual.column_angle);
+    }
 }
 
 TEST(ModelFile, OlderFileWithoutRacewayOperatorReadsAsEmpty)

@@ -53,24 +53,30 @@ namespace fretsim::reduction
   };
 
   /// The part of the body's static compliance the basis misses, MacNeal's
-  /// residual flexibility R = K⁻¹ − T K_r⁻¹ Tᵀ (both with inertia relief),
+  /// residual flexibility R = K⁻¹ − T K_r⁻¹ Tᵀ (a free ring: both with
+  /// inertia relief; a housing held at its outside: plain static solves),
   /// as u_r on the interface grid, taken circulant in θ on the axisymmetric
-  /// ring: per unit force on the cells of the grid's first column (column
-  /// angle), and per unit ball load at that angle. Empty if not computed.
+  /// body: per unit force on the cells of the grid's first column (column
+  /// angle), and for a ring per unit ball load at that angle. Empty if not
+  /// computed.
   struct ResidualFlexibility
   {
     double column_angle = 0.0; ///< θ of the grid's first column [rad]
     /// [component][load row jj][cell] outward u_r per N of the traction
-    /// component on cell (0, jj): 0 pressure (the force pushes inward),
+    /// component on cell (0, jj): 0 pressure (the force pushes into the
+    /// body: inward on a ring's outer surface, outward on a housing's bore),
     /// 1 circumferential, 2 axial; a component may be empty [m/N].
     std::array<std::vector<double>, 3> traction;
-    std::vector<double>                ball; ///< [cell] outward u_r per N of a ball at column_angle [m/N]
+    /// [cell] outward u_r per N of a ball at column_angle [m/N]; empty
+    /// for a body without a raceway (the housing).
+    std::vector<double> ball;
     /// Full and reduced solves it took, and their wall time [s].
     unsigned int solves  = 0;
     double       seconds = 0.0;
-    bool         empty() const { return ball.empty(); }
+    bool         empty() const { return traction[0].empty(); }
     /// The pressure table as compliance: the inward displacement of every
-    /// cell per unit pressure on cell (0, jj), [jj][cell] [m/Pa].
+    /// cell per unit pressure on cell (0, jj), [jj][cell] [m/Pa] (on a
+    /// housing's bore, which the pressure pushes out, negative).
     std::vector<double> inward_per_pressure(double cell_area) const
     {
       std::vector<double> compliance(traction[0].size());
@@ -87,7 +93,7 @@ namespace fretsim::reduction
     GridOperators       interface_grid;       ///< empty grid (nx = 0) if none was asked for
     PointOperators      sample_points;
     RacewayOperators    raceway;              ///< empty angles if none was asked for (or an older file)
-    ResidualFlexibility residual;             ///< empty if not computed (a housing, or no raceway)
+    ResidualFlexibility residual;             ///< empty if not computed (see `fretsim reduce`)
     ReductionTimings    timings;
     /// What the model was made from: mesh, material, boundary ids, mode
     /// counts, program version (written as string attributes).

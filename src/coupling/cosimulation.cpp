@@ -364,10 +364,11 @@ namespace fretsim::coupling
       throw std::invalid_argument("co-simulation: duration, output interval, ball stiffness and the lowest elastic "
                                   "frequency must be positive; ramp time and damping ratio >= 0");
     if (s.integrator.order < 2 || s.integrator.order > 5 || s.integrator.jacobian_interval < 1 ||
-        s.integrator.maximum_newton_iterations < 1 || !positive(s.integrator.relative_tolerance) ||
+        s.integrator.maximum_newton_iterations < 1 || s.integrator.maximum_newton_failures < 1 ||
+        !positive(s.integrator.relative_tolerance) ||
         !positive(s.integrator.displacement_tolerance) || !positive(s.integrator.newton_tolerance))
-      throw std::invalid_argument("co-simulation: integrator order must be 2..5, the Jacobian interval and Newton "
-                                  "iterations >= 1 and tolerances positive");
+      throw std::invalid_argument("co-simulation: integrator order must be 2..5, the Jacobian interval, Newton "
+                                  "iterations and failures >= 1 and tolerances positive");
     impl = std::make_unique<Impl>(ring, s);
   }
 
@@ -474,17 +475,20 @@ namespace fretsim::coupling
     struct NewtonStart
     {
       StagePredictor predictor;
-      int            iterations;
+      int            iterations, failures;
     };
-    const NewtonStart settings_start{s.integrator.predictor, s.integrator.maximum_newton_iterations};
-    const NewtonStart arkode_start{StagePredictor::trivial, 3}; // ARKODE's own defaults
+    const NewtonStart settings_start{s.integrator.predictor, s.integrator.maximum_newton_iterations,
+                                     s.integrator.maximum_newton_failures};
+    const NewtonStart arkode_start{StagePredictor::trivial, 3, 10}; // ARKODE's own defaults
     const auto        newton_start = [&](const NewtonStart &start) {
       check(ARKStepSetPredictorMethod(sun.arkode, static_cast<int>(start.predictor)), "ARKStepSetPredictorMethod");
       check(ARKStepSetMaxNonlinIters(sun.arkode, start.iterations), "ARKStepSetMaxNonlinIters");
+      check(ARKStepSetMaxConvFails(sun.arkode, start.failures), "ARKStepSetMaxConvFails");
     };
     newton_start(settings_start);
     const bool can_fall_back = settings_start.predictor != arkode_start.predictor ||
-                               settings_start.iterations != arkode_start.iterations;
+                               settings_start.iterations != arkode_start.iterations ||
+                               settings_start.failures != arkode_start.failures;
     for (long k = 1; k <= outputs; ++k)
       {
         const double t_out = k * s.output_interval;

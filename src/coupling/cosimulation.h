@@ -45,6 +45,11 @@ namespace fretsim::coupling
     /// 12 a tenth to a sixth), each failure costing a fresh matrix and a
     /// quarter step (README).
     int    maximum_newton_iterations = 12;
+    /// Newton failures ARKODE allows in one step (each retried with a
+    /// smaller step and a fresh matrix) before it gives up on the step, which
+    /// is then retried with ARKODE's own Newton start and its own limit, 10
+    /// (the fallback, README).
+    int    maximum_newton_failures = 10;
     /// Newton stops when its update's error-weighted norm is below this
     /// (ARKODE's nonlinear convergence coefficient, its default 0.1) [-].
     /// Looser saves iterations and steps, but a stiff Winkler layer alone

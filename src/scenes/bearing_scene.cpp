@@ -279,6 +279,12 @@ namespace fretsim::scenes
                           "step and Newton's matrix is kept over steps, so it converges linearly: with ARKODE's own "
                           "3 a third of the paper case's steps failed, with 12 a tenth to a sixth (README) [-].",
                           1, 100),
+      Spec::integer_range("Integrator/Maximum Newton failures per step", "10",
+                          "Newton failures in one step (each retried with a smaller step and a fresh Jacobian) "
+                          "before the step is given up and retried with ARKODE's own Newton start (the last "
+                          "solution, 3 iterations, 10 failures) for the rest of the output interval; 10 is "
+                          "ARKODE's default (README) [-].",
+                          1, 100),
       Spec::integer_range("Integrator/Jacobian interval", "5",
                           "Steps between fresh Jacobians of the contact forces besides those after a failed Newton "
                           "iteration (ARKODE's default 51 keeps one while the balls move the contact under it; 5: "
@@ -437,6 +443,7 @@ namespace fretsim::scenes
     integrator.maximum_steps          = par.get_integer("Integrator/Maximum steps per output");
     integrator.maximum_newton_iterations = static_cast<int>(par.get_integer("Integrator/Maximum Newton iterations"));
     integrator.newton_tolerance          = par.get_double("Integrator/Newton tolerance");
+    integrator.maximum_newton_failures   = static_cast<int>(par.get_integer("Integrator/Maximum Newton failures per step"));
     integrator.jacobian_interval         = par.get_integer("Integrator/Jacobian interval");
     {
       const std::string &predictor = s.stage_predictor = par.get("Integrator/Stage predictor");

@@ -228,17 +228,12 @@ namespace fretsim::app
 
     fem::CylinderGrid interface_grid(const ReduceRequest &r)
     {
-      fem::CylinderGrid grid;
       if (r.grid_cells_circumferential == 0)
-        return grid;
-      grid.radius = r.body.ring.outer_radius; // the housing's bore too (line-to-line in the geometry)
-      grid.nx     = static_cast<int>(r.grid_cells_circumferential);
-      grid.ny     = static_cast<int>(r.grid_cells_axial);
-      grid.hx     = 2.0 * M_PI * grid.radius / grid.nx;
-      grid.hy     = r.body.ring.width / grid.ny;
-      grid.x_min  = 0.0;
-      grid.y_min  = -0.5 * r.body.ring.width;
-      return grid;
+        return {};
+      // the housing's bore too (line-to-line in the geometry)
+      return fem::CylinderGrid::around(r.body.ring.outer_radius, r.body.ring.width,
+                                       static_cast<int>(r.grid_cells_circumferential),
+                                       static_cast<int>(r.grid_cells_axial));
     }
 
     /// Circumferential lines in the mid-plane, points at equal angles: the

@@ -44,18 +44,7 @@ namespace
 
   fem::RingGeometry ring_6208() { return reduction_testing::ring_6208_geometry(); }
 
-  fem::CylinderGrid outer_grid()
-  {
-    const auto        ring = ring_6208();
-    fem::CylinderGrid g;
-    g.radius = ring.outer_radius;
-    g.nx     = 72;
-    g.ny     = 6;
-    g.hx     = 2.0 * M_PI * g.radius / g.nx;
-    g.hy     = ring.width / g.ny;
-    g.y_min  = -0.5 * ring.width;
-    return g;
-  }
+  fem::CylinderGrid outer_grid() { return fem::CylinderGrid::around(ring_6208().outer_radius, ring_6208().width, 72, 6); }
 
   fem::RacewayBallLoad ball(double angle, double force) { return reduction_testing::raceway_ball_6208(angle, force); }
 

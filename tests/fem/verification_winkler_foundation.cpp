@@ -59,18 +59,7 @@ namespace
     return -A * (1.0 - beta);
   }
 
-  CylinderGrid outer_grid(int nx, int ny)
-  {
-    CylinderGrid g;
-    g.radius = outer;
-    g.nx     = nx;
-    g.ny     = ny;
-    g.hx     = 2.0 * M_PI * outer / nx;
-    g.hy     = width / ny;
-    g.x_min  = 0.0;
-    g.y_min  = -0.5 * width;
-    return g;
-  }
+  CylinderGrid outer_grid(int nx, int ny) { return CylinderGrid::around(outer, width, nx, ny); }
 
   RingGeometry plain_ring()
   {

@@ -43,18 +43,7 @@ namespace
   const Material   steel{208e9, 0.3, 7850.0};
   constexpr double bore = 0.0341, outer = 0.040, housing_outer = 0.060, width = 0.018; // [m]
 
-  CylinderGrid outer_grid(int nx, int ny)
-  {
-    CylinderGrid g;
-    g.radius = outer;
-    g.nx     = nx;
-    g.ny     = ny;
-    g.hx     = 2.0 * M_PI * outer / nx;
-    g.hy     = width / ny;
-    g.x_min  = 0.0;
-    g.y_min  = -0.5 * width;
-    return g;
-  }
+  CylinderGrid outer_grid(int nx, int ny) { return CylinderGrid::around(outer, width, nx, ny); }
 
   RingGeometry ring_geometry(bool grooved)
   {

@@ -17,6 +17,7 @@
 #include <fretsim/fem/elastic_model.h>
 
 #include <memory>
+#include <cmath>
 #include <vector>
 
 namespace fretsim::fem
@@ -29,6 +30,13 @@ namespace fretsim::fem
     int    nx = 0, ny = 0;
     double hx = 0.0, hy = 0.0;       ///< cell sizes: arc length, axial [m]
     double x_min = 0.0, y_min = 0.0; ///< lower-left corner: arc length from θ = 0, z [m]
+
+    /// nx × ny cells over the whole circumference of a cylinder of `radius`
+    /// and axial `width` centred on z = 0, the first column from θ = 0.
+    static CylinderGrid around(double radius, double width, int nx, int ny)
+    {
+      return {radius, nx, ny, 2.0 * M_PI * radius / nx, width / ny, 0.0, -0.5 * width};
+    }
 
     std::size_t size() const { return static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny); }
     double      cell_area() const { return hx * hy; }

@@ -787,8 +787,8 @@ namespace fretsim::scenes
     integrator.set("smallest_step_s", stats.smallest_step);
     integrator.set("largest_step_s", stats.largest_step);
     summary.set_object("integrator", integrator);
-    if (s.local_compliance != "none")
-      { // the half-space's share of the contact time, in convolutions
+    if (stats.local_compliance.solves > 0)
+      { // the pressure solve's share of the contact time (half-space, residual flexibilities), in convolutions
         output::Summary local;
         local.set("pressure_solves", static_cast<long long>(stats.local_compliance.solves));
         local.set("pressure_convolutions", static_cast<long long>(stats.local_compliance.solve_convolutions));

@@ -236,6 +236,10 @@ TEST(BearingScene, AFlexibleHousingTakesItsShareAndAStiffOneIsTheRigidHousing)
   std::printf("steel housing: peak pressure %.4g Pa with its residual flexibility, %.4g Pa without\n", peak_with,
               peak_without);
   EXPECT_LT(peak_with, 0.995 * peak_without); // measured 60.7 against 61.6 MPa (-1.6 %)
+  // The pressure solve that carries the residual flexibilities reports its work.
+  const std::string steel_summary = read_text(dir / "steel" / "summary.json");
+  EXPECT_NE(steel_summary.find("\"housing_residual_flexibility\": true"), std::string::npos);
+  EXPECT_GT(summary_number(steel_summary, "pressure_solves"), 0.0);
   const auto interface = ResultsFile::read_dataset(steel, "/series/interface_force_y");
   const auto balls     = ResultsFile::read_dataset(steel, "/series/ball_load_total_y");
   EXPECT_NEAR(interface.back(), -balls.back(), 0.01 * balls.back());

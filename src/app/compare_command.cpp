@@ -327,6 +327,10 @@ namespace fretsim::app
       double       factorisation_seconds_all = 0.0; ///< [s]
       double       reduced_per_step = 0.0;                  ///< the run's wall time per step [s]
       double       full_per_step() const { return step_seconds / steps; }
+      double       mean_factorisation_seconds() const
+      {
+        return factorisation_seconds_all / std::max(1u, factorisations_all);
+      }
     };
 
     /// The run's ball loads at time t, linear between its snapshots (angles
@@ -545,7 +549,7 @@ namespace fretsim::app
             << t.start_time << ',' << t.solves << ',' << t.factorisations << ',' << t.start_seconds << ','
             << t.full_per_step() << ',' << run.integrator_steps << ',' << run.run_seconds << ',' << t.reduced_per_step
             << ',' << t.full_per_step() / t.reduced_per_step << ',' << t.peak_pressure << ','
-            << t.factorisation_seconds_all / std::max(1u, t.factorisations_all) << '\n';
+            << t.mean_factorisation_seconds() << '\n';
     }
 
     void write_csv(const std::string &path, const std::vector<Row> &rows)
@@ -1370,7 +1374,7 @@ namespace fretsim::app
             << " s) from t = " << transient.start_time << " s; " << transient.solves << " linear solves, "
             << transient.factorisations << " factorisations; static start " << std::fixed << std::setprecision(2)
             << transient.start_seconds << " s (from the run's contact set); one factorisation "
-            << transient.factorisation_seconds_all / std::max(1u, transient.factorisations_all) << " s (mean of "
+            << transient.mean_factorisation_seconds() << " s (mean of "
             << transient.factorisations_all << "); peak pressure " << 1e-6 * transient.peak_pressure << " MPa\n"
             << std::defaultfloat << "  full FE: " << transient.full_per_step() << " s per step; the run: "
             << reduced_per_step << " s per step (its whole run: integration, contact, stresses, Dang Van)\n"

@@ -56,6 +56,14 @@ namespace fretsim::coupling
     std::vector<double> force, by_position, by_velocity;
     std::vector<double> ball_scratch; // set_ball_loads' generalised force, unused
     bool                ball_residual;  // the ring has a residual flexibility: the interface takes the ball loads
+    // ... and with the reciprocal term, the raceway the pressure's (its grid and table).
+    bool                 raceway_residual;
+    contact::SurfaceGrid residual_grid;
+    double               residual_radius, residual_column_angle;
+    std::vector<double>  residual_ball;
+    // The last two accepted pressures and their times, for the extrapolation.
+    contact::Field       pressure_now, pressure_before, pressure_guess;
+    double               time_now = 0.0, time_before = 0.0;
     std::string         last_error;
 
     Impl(const ReducedRing &ring, const CosimulationSettings &s)
@@ -69,6 +77,13 @@ namespace fretsim::coupling
       , by_velocity(ring.n * ring.n)
       , ball_scratch(ring.n)
       , ball_residual(!ring.residual_ball.empty())
+      , raceway_residual(ball_residual && s.pressure_residual_at_balls)
+      , residual_grid(ring.interface_grid)
+      , residual_radius(ring.interface_radius)
+      , residual_column_angle(ring.residual_column_angle)
+      , residual_ball(raceway_residual ? ring.residual_ball : std::vector<double>())
+      , pressure_now(ring.interface_grid.size(), 0.0)
+      , pressure_before(pressure_now)
     {
       const Eigen::Map<const RowMatrix> M(ring.mass.data(), n, n), K(ring.stiffness.data(), n, n);
       mass.compute(M);
@@ -144,6 +159,7 @@ namespace fretsim::coupling
       double e[2], e_rate[2];
       inner_ring(t, e, e_rate);
       const std::vector<double> angles = ball_angles(t);
+      set_raceway_residual(t, angles);
       set_ball_loads(angles, e, e_rate, q, v);
       // The interface's forces first, then the balls': the sums in the
       // order they always had (a stiff layer's chatter follows the rounding).
@@ -165,14 +181,58 @@ namespace fretsim::coupling
       interface.set_ball_loads(angles, balls.loads());
     }
 
+    /// The pressure's residual displacement of the raceway under the balls
+    /// at time t and `angles`, to the balls (empty without it). The pressure
+    /// is extrapolated linearly from the last two accepted steps: the term
+    /// is lagged by a step (a pressure solve of its own within the step would
+    /// double the contact's cost), and extrapolating makes the jump at the
+    /// next acceptance second order in the step rather than first, each such
+    /// jump a kick the integrator pays for in steps, as with the bristles.
+    std::vector<double> set_raceway_residual(double t, const std::vector<double> &angles)
+    {
+      if (!raceway_residual)
+        return {};
+      const contact::Field *pressure = &pressure_now;
+      if (time_now > time_before && t != time_now)
+        {
+          // At most two of the last step ahead: after a much shorter step its
+          // change would be mostly the solve's tolerance, magnified.
+          const double ahead = std::min((t - time_now) / (time_now - time_before), 2.0);
+          pressure_guess.resize(pressure_now.size());
+          for (std::size_t c = 0; c < pressure_now.size(); ++c)
+            pressure_guess[c] = pressure_now[c] + ahead * (pressure_now[c] - pressure_before[c]);
+          pressure = &pressure_guess;
+        }
+      auto inward = pressure_residual_at_balls(residual_grid, residual_radius, residual_ball, residual_column_angle,
+                                               angles, *pressure);
+      balls.set_raceway_residual(inward);
+      return inward;
+    }
+
     /// The paper's bristle update at the accepted state (t, q, q̇), with the
-    /// ball loads there.
+    /// ball loads there; then the raceway's residual from the new pressure,
+    /// and how far it moved from the one the step used (the lag).
     void accept(double t, const double *q, const double *v)
     {
       double e[2], e_rate[2];
       inner_ring(t, e, e_rate);
-      set_ball_loads(ball_angles(t), e, e_rate, q, v);
+      const std::vector<double> angles = ball_angles(t);
+      const std::vector<double> used   = set_raceway_residual(t, angles);
+      set_ball_loads(angles, e, e_rate, q, v);
       interface.accept(q, v);
+      if (!raceway_residual)
+        return;
+      pressure_before.swap(pressure_now);
+      pressure_now = interface.pressure();
+      time_before  = time_now;
+      time_now     = t;
+      const std::vector<double> updated = set_raceway_residual(t, angles);
+      for (std::size_t j = 0; j < updated.size(); ++j)
+        {
+          stats.raceway_residual_largest = std::max(stats.raceway_residual_largest, std::abs(updated[j]));
+          stats.raceway_residual_largest_lag =
+            std::max(stats.raceway_residual_largest_lag, std::abs(updated[j] - used[j]));
+        }
     }
 
     int rhs(double t, const double *y, double *y_rate)

@@ -82,6 +82,14 @@ namespace fretsim::coupling
     double             duration            = 0.0; ///< [s]
     double             output_interval     = 0.0; ///< [s]
     double             damping_ratio       = 0.02;///< ζ at the lowest elastic frequency [-]
+    /// With the ring's residual flexibility for the balls (ReducedRing::
+    /// residual_ball): the reciprocal term too, the interface pressure's
+    /// residual displacement of the raceway under each ball joining its
+    /// deflection (pressure_residual_at_balls). It is taken from the last
+    /// accepted step's pressure (lagged by one step: a pressure solve for
+    /// it within the step would be a second one per evaluation), at the
+    /// balls' current angles; the lag is measured (IntegratorStatistics).
+    bool               pressure_residual_at_balls = true;
     IntegratorSettings integrator;
   };
 
@@ -109,6 +117,12 @@ namespace fretsim::coupling
     long   fallbacks = 0;
     double integrator_seconds = 0.0; ///< wall time inside ARKODE, contact loads excluded
     double contact_seconds    = 0.0; ///< wall time of the contact loads and their Jacobians
+    /// The pressure's residual displacement of the raceway under the balls
+    /// (CosimulationSettings::pressure_residual_at_balls): its largest value
+    /// over the accepted steps and the largest change it made at one
+    /// acceptance, its lag (what the step used, from the previous pressure,
+    /// against what the accepted pressure gives) [m]; 0 without it.
+    double raceway_residual_largest = 0.0, raceway_residual_largest_lag = 0.0;
     /// The interface's half-space solves, if it has one (in contact_seconds).
     LocalCompliance::Statistics local_compliance;
   };

@@ -35,26 +35,52 @@ namespace fretsim::coupling
       fail("the residual flexibility must have [rows][cells] pressure entries and none or [cells] ball entries");
   }
 
+  namespace
+  {
+    /// visit(b, cell, R): the ball table shifted to ball b's angle, linear
+    /// between the grid's columns, for each cell: the one placement both
+    /// directions of the reciprocal pair use, so that they are each other's
+    /// transposes exactly.
+    template <class Visit>
+    void for_each_shifted_ball_cell(const contact::SurfaceGrid &grid, double radius, const std::vector<double> &table,
+                                    double column_angle, const std::vector<double> &angles, Visit visit)
+    {
+      const int    nx = grid.nx, ny = grid.ny;
+      const double angle_step = grid.hx / radius;
+      for (std::size_t b = 0; b < angles.size(); ++b)
+        {
+          const double shift = std::remainder(angles[b] - column_angle, 2.0 * M_PI) / angle_step;
+          for (int i = 0; i < nx; ++i)
+            {
+              const double at = i - shift, lower = std::floor(at), fraction = at - lower;
+              const int    k0 = ((static_cast<int>(lower) % nx) + nx) % nx, k1 = (k0 + 1) % nx;
+              for (int j = 0; j < ny; ++j)
+                visit(b, grid.index(i, j),
+                      (1.0 - fraction) * table[grid.index(k0, j)] + fraction * table[grid.index(k1, j)]);
+            }
+        }
+    }
+  } // namespace
+
   void add_ball_residual(const contact::SurfaceGrid &grid, double radius, const std::vector<double> &table,
                          double column_angle, const std::vector<double> &angles, const std::vector<double> &loads,
                          std::vector<double> &field)
   {
-    const int    nx = grid.nx, ny = grid.ny;
-    const double angle_step = grid.hx / radius;
-    for (std::size_t b = 0; b < angles.size(); ++b)
-      {
-        if (loads[b] == 0.0)
-          continue;
-        const double shift = std::remainder(angles[b] - column_angle, 2.0 * M_PI) / angle_step;
-        for (int i = 0; i < nx; ++i)
-          {
-            const double at = i - shift, lower = std::floor(at), fraction = at - lower;
-            const int    k0 = ((static_cast<int>(lower) % nx) + nx) % nx, k1 = (k0 + 1) % nx;
-            for (int j = 0; j < ny; ++j)
-              field[grid.index(i, j)] +=
-                loads[b] * ((1.0 - fraction) * table[grid.index(k0, j)] + fraction * table[grid.index(k1, j)]);
-          }
-      }
+    for_each_shifted_ball_cell(grid, radius, table, column_angle, angles,
+                               [&](std::size_t b, std::size_t cell, double value) { field[cell] += loads[b] * value; });
+  }
+
+  std::vector<double> pressure_residual_at_balls(const contact::SurfaceGrid &grid, double radius,
+                                                 const std::vector<double> &table, double column_angle,
+                                                 const std::vector<double> &angles, const contact::Field &pressure)
+  {
+    std::vector<double> inward(angles.size(), 0.0);
+    const double        area = grid.cell_area();
+    for_each_shifted_ball_cell(grid, radius, table, column_angle, angles,
+                               [&](std::size_t b, std::size_t cell, double value) {
+                                 inward[b] += value * pressure[cell] * area;
+                               });
+    return inward;
   }
 
   ReducedRing with_flexible_housing(const ReducedRing &ring, const ReducedHousing &housing)
@@ -655,7 +681,7 @@ namespace fretsim::coupling
     RowMatrix           approach; // [angle][n]
     unsigned int        balls;
     double              stiffness, damping, clearance;
-    std::vector<double> loads;
+    std::vector<double> loads, raceway_residual;
   };
 
   BallContacts::BallContacts(const ReducedRing &ring, unsigned int ball_count, double stiffness, double damping,
@@ -673,6 +699,14 @@ namespace fretsim::coupling
     impl->damping   = damping;
     impl->clearance = radial_clearance;
     impl->loads.assign(ball_count, 0.0);
+    impl->raceway_residual.assign(ball_count, 0.0);
+  }
+
+  void BallContacts::set_raceway_residual(const std::vector<double> &inward)
+  {
+    if (inward.size() != impl->balls)
+      throw std::invalid_argument("ball contacts: one raceway residual per ball");
+    impl->raceway_residual = inward;
   }
 
   BallContacts::~BallContacts() = default;
@@ -697,7 +731,8 @@ namespace fretsim::coupling
         r.noalias()     = (1.0 - w) * d.approach.row(k0).transpose() + w * d.approach.row(k1).transpose();
         slope.noalias() = (d.approach.row(k1) - d.approach.row(k0)).transpose() / spacing;
         const double c = std::cos(angles[j]), s = std::sin(angles[j]);
-        const double deflection = inner_displacement[0] * c + inner_displacement[1] * s - r.dot(q) - 0.5 * d.clearance;
+        const double deflection = inner_displacement[0] * c + inner_displacement[1] * s - r.dot(q) - 0.5 * d.clearance +
+                                  d.raceway_residual[j];
         // The ball moves along a deformed raceway: its approach changes with ψ too.
         const double rate = inner_velocity[0] * c + inner_velocity[1] * s +
                             cage_speed * (-inner_displacement[0] * s + inner_displacement[1] * c) - r.dot(v) -

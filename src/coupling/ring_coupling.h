@@ -91,6 +91,14 @@ namespace fretsim::coupling
                          double column_angle, const std::vector<double> &angles, const std::vector<double> &loads,
                          std::vector<double> &field);
 
+  /// Its reciprocal (Maxwell–Betti): how far the interface pressure
+  /// `pressure` [Pa per cell] moves the raceway inward under each ball at
+  /// `angles` through the same table, Σ_c R(θ_c − ψ_b) p_c A [m]; the exact
+  /// transpose of add_ball_residual.
+  std::vector<double> pressure_residual_at_balls(const contact::SurfaceGrid &grid, double radius,
+                                                 const std::vector<double> &table, double column_angle,
+                                                 const std::vector<double> &angles, const contact::Field &pressure);
+
   /// A Craig–Bampton model of the housing (held at its outside), reduced on
   /// its bore: coordinates q_h ∈ R^n, the bore's displacement on the same grid
   /// as the ring's outer surface, [cell][3][n] (u_r outward, u_θ, u_z).
@@ -223,10 +231,12 @@ namespace fretsim::coupling
 
   /// Massless cage-guided balls between the rigid inner ring and the flexible
   /// outer raceway (see bearing.h): the deflection of ball j at ψ_j is
-  ///     δ_j = e · n(ψ_j) - r(ψ_j) · q - P_d / 2,
-  /// e the inner ring's displacement, n the outward unit radius; the load Q_j
-  /// acts on the ring as Q_j r(ψ_j) (generalised). r is interpolated linearly
-  /// between the stored angles, the same weights both ways.
+  ///     δ_j = e · n(ψ_j) - r(ψ_j) · q - P_d / 2 + w_j,
+  /// e the inner ring's displacement, n the outward unit radius, w_j the
+  /// raceway's residual inward displacement (set_raceway_residual, 0 unless
+  /// set); the load Q_j acts on the ring as Q_j r(ψ_j) (generalised). r is
+  /// interpolated linearly between the stored angles, the same weights both
+  /// ways.
   class BallContacts
   {
   public:
@@ -239,6 +249,9 @@ namespace fretsim::coupling
     void add_forces(const std::vector<double> &angles, double cage_speed, const double inner_displacement[2],
                     const double inner_velocity[2], const double *q, const double *velocity,
                     const ForceOutput &out);
+    /// w_j [m] per ball from now on (pressure_residual_at_balls): held
+    /// fixed within add_forces, so no derivative of it enters the Jacobian.
+    void set_raceway_residual(const std::vector<double> &inward);
     /// Ball loads [N] of the last add_forces call.
     const std::vector<double> &loads() const;
 

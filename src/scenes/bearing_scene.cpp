@@ -250,6 +250,12 @@ namespace fretsim::scenes
                     "to its penetration: the pressure under a ball as the full FE ring gives it, whatever the "
                     "basis size (README). Not with Local compliance = both, which stands for the same "
                     "compliance [-].", "true|false"),
+      Spec::selection("Interface/Residual flexibility at the balls", "true",
+                      "With the ring's residual flexibility: its reciprocal term too (Maxwell-Betti), the interface "
+                      "pressure's residual displacement of the raceway under each ball joining that ball's "
+                      "deflection, from the last accepted step's pressure (summary.json reports its largest value "
+                      "and its lag). false: only the balls' residual displacement of the interface (README) [-].",
+                      "true|false"),
       Spec::selection("Interface/Housing residual flexibility", "true",
                       "With a flexible housing (Model/Housing reduction configuration): add the part of the "
                       "housing's static compliance its reduced basis misses on its bore (R_h = K^-1 - T K_r^-1 T^T, "
@@ -433,6 +439,7 @@ namespace fretsim::scenes
                  "false with Local compliance = both: the ring's half-space and its residual flexibility stand for "
                  "the same local compliance");
     s.housing_residual = par.get_bool("Interface/Housing residual flexibility");
+    s.run.pressure_residual_at_balls = s.ring_residual && par.get_bool("Interface/Residual flexibility at the balls");
     s.run.damping_ratio            = par.get_double("Ring/Damping ratio");
 
     auto &integrator                  = s.run.integrator;
@@ -750,6 +757,14 @@ namespace fretsim::scenes
     summary.set("local_compliance_modulus_Pa", s.run.interface.local_compliance_modulus);
     summary.set("ring_residual_flexibility", s.ring_residual);
     summary.set("housing_residual_flexibility", s.housing_model && s.housing_residual);
+    summary.set("residual_flexibility_at_balls", s.run.pressure_residual_at_balls && !ring.residual_ball.empty());
+    if (stats.raceway_residual_largest > 0.0)
+      { // the reciprocal term's size and what lagging it by a step moved it
+        output::Summary raceway;
+        raceway.set("largest_inward_m", stats.raceway_residual_largest);
+        raceway.set("largest_lag_m", stats.raceway_residual_largest_lag);
+        summary.set_object("raceway_residual", raceway);
+      }
     summary.set("ball_count", static_cast<long long>(s.run.bearing.ball_count));
     summary.set("pitch_diameter_m", s.run.bearing.pitch_diameter);
     summary.set("ball_contact_stiffness_N_per_m1.5", s.run.ball_stiffness);

@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -290,6 +291,71 @@ TEST(BallTransfer, JacobianMatchesFiniteDifferencesAndLoadsActAlongTheOperator)
   EXPECT_LT(loaded, 9);
   EXPECT_LT(jacobian_error(5, q, v, 0, 1e-12, evaluate, dq), 1e-5);
   EXPECT_LT(jacobian_error(5, q, v, 1, 1e-9, evaluate, dv), 1e-5);
+}
+
+TEST(BallTransfer, ThePressuresResidualAtTheBallsIsTheTransposeOfTheBallsResidualAtTheInterface)
+{
+  // Maxwell–Betti on the residual table: the balls' loads do as much work on
+  // the pressure's residual displacement of the raceway as the pressure does
+  // on the balls' residual displacement of the interface, for any table,
+  // loads, pressures and angles (between columns and across θ = 0). The two
+  // sides sum the same products in another order: rounding, 1e-12.
+  const auto          ring = synthetic::random_ring(5, 36, 3, 11);
+  const auto         &grid = ring.interface_grid;
+  const double        radius = ring.interface_radius, column_angle = grid.x(4) / radius;
+  std::mt19937        generator(5);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  std::vector<double> table(grid.size()), pressure(grid.size());
+  for (double &value : table)
+    value = 1e-10 * (uniform(generator) - 0.2); // m/N, either sign
+  for (double &value : pressure)
+    value = 1e6 * uniform(generator);
+  const std::vector<double> angles{0.0123, 1.7, 3.1, -0.4, 6.25}, loads{500.0, 0.0, 3000.0, 1200.0, 80.0};
+  std::vector<double>       field(grid.size(), 0.0);
+  add_ball_residual(grid, radius, table, column_angle, angles, loads, field);
+  const auto inward = pressure_residual_at_balls(grid, radius, table, column_angle, angles, pressure);
+  ASSERT_EQ(inward.size(), angles.size());
+  double interface_work = 0.0, ball_work = 0.0;
+  for (std::size_t c = 0; c < field.size(); ++c)
+    interface_work += field[c] * pressure[c] * grid.cell_area();
+  for (std::size_t b = 0; b < loads.size(); ++b)
+    ball_work += loads[b] * inward[b];
+  EXPECT_NEAR(ball_work / interface_work, 1.0, 1e-12);
+
+  // A ball at the table's own column and one pressed cell read the table.
+  std::vector<double> one_cell(grid.size(), 0.0);
+  one_cell[grid.index(7, 2)] = 2e6;
+  const auto at_column = pressure_residual_at_balls(grid, radius, table, column_angle, {column_angle}, one_cell);
+  EXPECT_DOUBLE_EQ(at_column[0], table[grid.index(7, 2)] * 2e6 * grid.cell_area());
+}
+
+TEST(BallTransfer, TheRacewaysResidualInwardDisplacementActsAsLessClearance)
+{
+  // δ_j = e·n − r·q − P_d/2 + w_j: a uniform w is a clearance smaller by 2w,
+  // to rounding (1e-12 of the load).
+  const auto          ring = synthetic::random_ring(5, 8, 1, 9);
+  std::vector<double> angles(9);
+  for (int j = 0; j < 9; ++j)
+    angles[j] = 0.3 + 2.0 * M_PI * j / 9;
+  const double e[2] = {1e-6, 40e-6}, e_rate[2] = {0.0, 1e-3};
+  const auto   q = mixed_state(5, 21, 2e-6), v = mixed_state(5, 22, 1e-3);
+  const double w = 0.7e-6;
+  const auto   loads = [&](double clearance, double inward) {
+    BallContacts balls(ring, 9, 7e9, 0.5, clearance);
+    if (inward != 0.0)
+      balls.set_raceway_residual(std::vector<double>(9, inward));
+    std::vector<double> f(5, 0.0);
+    balls.add_forces(angles, 120.0, e, e_rate, q.data(), v.data(), {f.data(), nullptr, nullptr});
+    return balls.loads();
+  };
+  const auto with_residual = loads(10e-6, w), less_clearance = loads(10e-6 - 2.0 * w, 0.0),
+             without        = loads(10e-6, 0.0);
+  for (int j = 0; j < 9; ++j)
+    EXPECT_NEAR(with_residual[j], less_clearance[j], 1e-12 * std::max(1.0, less_clearance[j])) << j;
+  const auto top = std::max_element(without.begin(), without.end()) - without.begin();
+  EXPECT_GT(with_residual[top], without[top] * 1.01);
+  BallContacts balls(ring, 9, 7e9, 0.5, 10e-6);
+  EXPECT_THROW(balls.set_raceway_residual({w}), std::invalid_argument);
 }
 
 TEST(BallContactLaw, HertzConstantsMatchTheWorkedDeepGrooveExample)

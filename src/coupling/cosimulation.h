@@ -85,10 +85,11 @@ namespace fretsim::coupling
     /// With the ring's residual flexibility for the balls (ReducedRing::
     /// residual_ball): the reciprocal term too, the interface pressure's
     /// residual displacement of the raceway under each ball joining its
-    /// deflection (pressure_residual_at_balls). It is taken from the last
-    /// accepted step's pressure (lagged by one step: a pressure solve for
-    /// it within the step would be a second one per evaluation), at the
-    /// balls' current angles; the lag is measured (IntegratorStatistics).
+    /// deflection (pressure_residual_at_balls). In each evaluation the balls
+    /// first take it from the pressure extrapolated from the last two
+    /// accepted steps, then, after the interface's solve, from that solve's
+    /// pressure (one Gauss–Seidel sweep, no second pressure solve); the
+    /// sweep's correction is measured (IntegratorStatistics).
     bool               pressure_residual_at_balls = true;
     IntegratorSettings integrator;
   };
@@ -119,10 +120,11 @@ namespace fretsim::coupling
     double contact_seconds    = 0.0; ///< wall time of the contact loads and their Jacobians
     /// The pressure's residual displacement of the raceway under the balls
     /// (CosimulationSettings::pressure_residual_at_balls): its largest value
-    /// over the accepted steps and the largest change it made at one
-    /// acceptance, its lag (what the step used, from the previous pressure,
-    /// against what the accepted pressure gives) [m]; 0 without it.
-    double raceway_residual_largest = 0.0, raceway_residual_largest_lag = 0.0;
+    /// over the accepted steps, and the largest correction the sweep made to
+    /// it at an acceptance (the extrapolated pressure's against the accepted
+    /// pressure's; what the balls and the pressure still disagree by is the
+    /// loop's gain times that) [m]; 0 without it.
+    double raceway_residual_largest = 0.0, raceway_residual_largest_correction = 0.0;
     /// The interface's half-space solves, if it has one (in contact_seconds).
     LocalCompliance::Statistics local_compliance;
   };

@@ -38,12 +38,14 @@ namespace fretsim::coupling
   namespace
   {
     /// visit(b, cell, R): the ball table shifted to ball b's angle, linear
-    /// between the grid's columns, for each cell: the one placement both
+    /// between the grid's columns, for each cell of the columns i where
+    /// wanted(b, i) (the others contribute nothing): the one placement both
     /// directions of the reciprocal pair use, so that they are each other's
     /// transposes exactly.
-    template <class Visit>
+    template <class Wanted, class Visit>
     void for_each_shifted_ball_cell(const contact::SurfaceGrid &grid, double radius, const std::vector<double> &table,
-                                    double column_angle, const std::vector<double> &angles, Visit visit)
+                                    double column_angle, const std::vector<double> &angles, Wanted wanted,
+                                    Visit visit)
     {
       const int    nx = grid.nx, ny = grid.ny;
       const double angle_step = grid.hx / radius;
@@ -52,6 +54,8 @@ namespace fretsim::coupling
           const double shift = std::remainder(angles[b] - column_angle, 2.0 * M_PI) / angle_step;
           for (int i = 0; i < nx; ++i)
             {
+              if (!wanted(b, i))
+                continue;
               const double at = i - shift, lower = std::floor(at), fraction = at - lower;
               const int    k0 = ((static_cast<int>(lower) % nx) + nx) % nx, k1 = (k0 + 1) % nx;
               for (int j = 0; j < ny; ++j)
@@ -66,20 +70,26 @@ namespace fretsim::coupling
                          double column_angle, const std::vector<double> &angles, const std::vector<double> &loads,
                          std::vector<double> &field)
   {
-    for_each_shifted_ball_cell(grid, radius, table, column_angle, angles,
-                               [&](std::size_t b, std::size_t cell, double value) { field[cell] += loads[b] * value; });
+    for_each_shifted_ball_cell(
+      grid, radius, table, column_angle, angles, [&](std::size_t b, int) { return loads[b] != 0.0; },
+      [&](std::size_t b, std::size_t cell, double value) { field[cell] += loads[b] * value; });
   }
 
   std::vector<double> pressure_residual_at_balls(const contact::SurfaceGrid &grid, double radius,
                                                  const std::vector<double> &table, double column_angle,
                                                  const std::vector<double> &angles, const contact::Field &pressure)
   {
+    // Most columns carry no pressure (the unloaded half, the gaps between
+    // the balls): they are skipped.
+    std::vector<char> loaded(grid.nx, 0);
+    for (int i = 0; i < grid.nx; ++i)
+      for (int j = 0; j < grid.ny && !loaded[i]; ++j)
+        loaded[i] = pressure[grid.index(i, j)] != 0.0;
     std::vector<double> inward(angles.size(), 0.0);
     const double        area = grid.cell_area();
-    for_each_shifted_ball_cell(grid, radius, table, column_angle, angles,
-                               [&](std::size_t b, std::size_t cell, double value) {
-                                 inward[b] += value * pressure[cell] * area;
-                               });
+    for_each_shifted_ball_cell(
+      grid, radius, table, column_angle, angles, [&](std::size_t, int i) { return loaded[i] != 0; },
+      [&](std::size_t b, std::size_t cell, double value) { inward[b] += value * pressure[cell] * area; });
     return inward;
   }
 
@@ -622,6 +632,7 @@ namespace fretsim::coupling
       }
   }
 
+  const contact::Field &InterfaceContact::trial_pressure() const { return impl->trial_pressure; }
   const contact::Field &InterfaceContact::pressure() const { return impl->pressure; }
   const contact::Field &InterfaceContact::shear_x() const { return impl->tau_x; }
   const contact::Field &InterfaceContact::shear_y() const { return impl->tau_y; }

@@ -208,6 +208,8 @@ namespace fretsim::coupling
     /// derivative through the ball loads (see the README).
     void set_ball_loads(const std::vector<double> &angles, const std::vector<double> &loads);
 
+    /// The pressure of the last add_forces call (trial state) [Pa].
+    const contact::Field &trial_pressure() const;
     /// Fields at the last accepted state [Pa] (pressure positive; shear_x
     /// circumferential, shear_y axial: the housing's traction on the ring).
     const contact::Field &pressure() const;

@@ -253,8 +253,8 @@ namespace fretsim::scenes
       Spec::selection("Interface/Residual flexibility at the balls", "true",
                       "With the ring's residual flexibility: its reciprocal term too (Maxwell-Betti), the interface "
                       "pressure's residual displacement of the raceway under each ball joining that ball's "
-                      "deflection, from the last accepted step's pressure (summary.json reports its largest value "
-                      "and its lag). false: only the balls' residual displacement of the interface (README) [-].",
+                      "deflection, from the pressure of the interface's solve in the same evaluation (one sweep; "
+                      "summary.json reports its largest value and the sweep's correction). false: only the balls' residual displacement of the interface (README) [-].",
                       "true|false"),
       Spec::selection("Interface/Housing residual flexibility", "true",
                       "With a flexible housing (Model/Housing reduction configuration): add the part of the "
@@ -759,10 +759,10 @@ namespace fretsim::scenes
     summary.set("housing_residual_flexibility", s.housing_model && s.housing_residual);
     summary.set("residual_flexibility_at_balls", s.run.pressure_residual_at_balls && !ring.residual_ball.empty());
     if (stats.raceway_residual_largest > 0.0)
-      { // the reciprocal term's size and what lagging it by a step moved it
+      { // the reciprocal term's size and the sweep's correction of it
         output::Summary raceway;
         raceway.set("largest_inward_m", stats.raceway_residual_largest);
-        raceway.set("largest_lag_m", stats.raceway_residual_largest_lag);
+        raceway.set("largest_correction_m", stats.raceway_residual_largest_correction);
         summary.set_object("raceway_residual", raceway);
       }
     summary.set("ball_count", static_cast<long long>(s.run.bearing.ball_count));

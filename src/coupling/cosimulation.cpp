@@ -56,7 +56,8 @@ namespace fretsim::coupling
     std::vector<double> force, by_position, by_velocity;
     std::vector<double> ball_scratch; // set_ball_loads' generalised force, unused
     bool                ball_residual;  // the ring has a residual flexibility: the interface takes the ball loads
-    // ... and with the reciprocal term, the raceway the pressure's (its grid and table).
+    // With the reciprocal term: the grid and ball table through which the
+    // pressure moves the raceway under the balls.
     bool                 raceway_residual;
     contact::SurfaceGrid residual_grid;
     double               residual_radius, residual_column_angle;

@@ -23,8 +23,10 @@
 //    the interface (R = K⁻¹ − T K_r⁻¹ Tᵀ, orthogonal to what the basis
 //    holds, so adding it counts nothing twice) joins the half-space in
 //    series with the layer; a ball's residual displacement of the interface
-//    adds to the penetration. A flexible housing's own R_h joins it in
-//    series in the same way.
+//    adds to the penetration, and reciprocally (the same table transposed)
+//    the pressure's residual displacement of the raceway to each ball's
+//    deflection. A flexible housing's own R_h joins it in series in the
+//    same way.
 //  * ball contacts: the Hertz law carries the local indentation of ball and
 //    raceways; the reduced model the ring's global deformation, read as the
 //    work-conjugate approach r(ψ)·q of a Hertz-distributed unit ball load.

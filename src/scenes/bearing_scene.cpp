@@ -254,7 +254,8 @@ namespace fretsim::scenes
                       "With the ring's residual flexibility: its reciprocal term too (Maxwell-Betti), the interface "
                       "pressure's residual displacement of the raceway under each ball joining that ball's "
                       "deflection, from the pressure of the interface's solve in the same evaluation (one sweep; "
-                      "summary.json reports its largest value and the sweep's correction). false: only the balls' residual displacement of the interface (README) [-].",
+                      "summary.json reports its largest value and the sweep's correction). false: only the balls' "
+                      "residual displacement of the interface (README) [-].",
                       "true|false"),
       Spec::selection("Interface/Housing residual flexibility", "true",
                       "With a flexible housing (Model/Housing reduction configuration): add the part of the "

@@ -43,7 +43,7 @@ def read_model(path):
     return nx, ny, float(grid["hx_m"]), float(grid["hy_m"]), float(grid["radius_m"]), table
 
 
-def width_mean_harmonics(response):
+def circumferential_harmonics(response):
     """Real parts of the circumferential harmonics of a response [nx]."""
     return np.fft.rfft(response).real
 
@@ -74,14 +74,14 @@ def main():
             for image in range(-3, 4):
                 halfspace += love_displacement(x + image * nx * hx, y[target] - y[source], hx / 2, hy / 2,
                                                plane_modulus) / ny
-    halfspace_k = width_mean_harmonics(halfspace)
+    halfspace_k = circumferential_harmonics(halfspace)
 
     residual_k = []
     for _, _, _, _, _, table in models:
         rows = table.reshape(ny, ny, nx)  # [loaded row][row][column]: cell index = row * nx + column
         sign = math.copysign(1.0, rows[0, 0, 0])  # into the body: a ring's u_r is inward, a housing's outward
         response = sign * rows.sum(axis=0).mean(axis=0) * hx * hy  # per unit pressure
-        residual_k.append(width_mean_harmonics(response))
+        residual_k.append(circumferential_harmonics(response))
 
     print("E = %.3g Pa, nu = %.2f; grid %d x %d cells of %.3f x %.3f mm on radius %.1f mm" %
           (args.youngs_modulus, args.poisson_ratio, nx, ny, hx * 1e3, hy * 1e3, radius * 1e3))

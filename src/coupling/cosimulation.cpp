@@ -57,8 +57,7 @@ namespace fretsim::coupling
     std::vector<double> ball_scratch; // set_ball_loads' generalised force, unused
     bool                ball_residual;  // the ring has a residual flexibility: the interface takes the ball loads
     // With the reciprocal term: the grid and ball table through which the
-    // pressure moves the raceway under the balls.
-    bool                 raceway_residual;
+    // pressure moves the raceway under the balls (the table empty without it).
     contact::SurfaceGrid residual_grid;
     double               residual_radius, residual_column_angle;
     std::vector<double>  residual_ball;
@@ -78,11 +77,10 @@ namespace fretsim::coupling
       , by_velocity(ring.n * ring.n)
       , ball_scratch(ring.n)
       , ball_residual(!ring.residual_ball.empty())
-      , raceway_residual(ball_residual && s.pressure_residual_at_balls)
       , residual_grid(ring.interface_grid)
       , residual_radius(ring.interface_radius)
       , residual_column_angle(ring.residual_column_angle)
-      , residual_ball(raceway_residual ? ring.residual_ball : std::vector<double>())
+      , residual_ball(s.pressure_residual_at_balls ? ring.residual_ball : std::vector<double>())
       , pressure_now(ring.interface_grid.size(), 0.0)
       , pressure_before(pressure_now)
     {
@@ -189,7 +187,7 @@ namespace fretsim::coupling
     /// balls' first guess in an evaluation, before the interface's solve.
     std::vector<double> set_raceway_residual(double t, const std::vector<double> &angles)
     {
-      if (!raceway_residual)
+      if (residual_ball.empty())
         return {};
       const contact::Field *pressure = &pressure_now;
       if (time_now > time_before && t != time_now)
@@ -211,7 +209,7 @@ namespace fretsim::coupling
     /// 0.02 on the paper case, of the extrapolation's error).
     std::vector<double> raceway_residual_from(const contact::Field &pressure, const std::vector<double> &angles)
     {
-      if (!raceway_residual)
+      if (residual_ball.empty())
         return {};
       auto inward = pressure_residual_at_balls(residual_grid, residual_radius, residual_ball, residual_column_angle,
                                                angles, pressure);
@@ -230,7 +228,7 @@ namespace fretsim::coupling
       const std::vector<double> used   = set_raceway_residual(t, angles);
       set_ball_loads(angles, e, e_rate, q, v);
       interface.accept(q, v);
-      if (!raceway_residual)
+      if (residual_ball.empty())
         return;
       pressure_before.swap(pressure_now);
       pressure_now = interface.pressure();

@@ -446,6 +446,8 @@ namespace fretsim::coupling
 
   std::vector<double> BearingCosimulation::ball_angles(double time) const { return impl->ball_angles(time); }
 
+  const LocalCompliance *BearingCosimulation::local_compliance() const { return impl->interface.local_compliance(); }
+
   bool BearingCosimulation::run(const std::function<bool(const Snapshot &)> &observe)
   {
     Impl             &d = *impl;

@@ -143,6 +143,9 @@ namespace fretsim::coupling
     bool run(const std::function<bool(const Snapshot &)> &observe);
 
     const IntegratorStatistics &statistics() const;
+    /// The interface's pressure solve (its half-space completion), or null
+    /// without a local compliance.
+    const LocalCompliance *local_compliance() const;
     /// Ball angles at time t [rad].
     std::vector<double> ball_angles(double time) const;
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -15,7 +16,8 @@ namespace fretsim::coupling
   struct LocalCompliance::Impl
   {
     contact::SurfaceGrid        grid;
-    double                      structural_asymmetry = 0.0; // (set while `compliance` is built)
+    double                      structural_asymmetry = 0.0; // (these two set while `compliance` is built)
+    std::vector<double>         completion_share;           ///< the half-space completion's per k
     contact::SurfaceConvolution compliance;
     /// On the closed circumference, (C + I/k_n)⁻¹ on the whole grid: the
     /// conjugate gradients' preconditioner, restricted to the loaded cells
@@ -39,9 +41,9 @@ namespace fretsim::coupling
     std::size_t              last_columns = 0;
 
     Impl(const contact::SurfaceGrid &g, double modulus, double layer_stiffness, bool periodic_x,
-         double cg_tolerance, const std::vector<double> &structural)
+         double cg_tolerance, const std::vector<double> &structural, const HalfSpaceCompletion &completion)
       : grid(g)
-      , compliance(kernel(g, modulus, periodic_x, structural, structural_asymmetry))
+      , compliance(kernel(g, modulus, periodic_x, structural, completion, structural_asymmetry, completion_share))
       , layer_compliance(1.0 / layer_stiffness)
       , sensitivity_tolerance(cg_tolerance)
     {
@@ -64,16 +66,33 @@ namespace fretsim::coupling
       return response[grid.index(0, j)];
     }
 
-    /// R is positive semidefinite in exact arithmetic (the part of K⁻¹ the
-    /// basis does not hold). Sampled from an FE mesh coarser than the grid,
-    /// its blocks at the shortest wavelengths around the circumference come
-    /// out slightly indefinite (on the 6208 ring down to -1 % of the largest
-    /// eigenvalue, at 153 of 180 wavenumbers); without a half-space's
-    /// compliance in series the contact problem would then be indefinite.
-    /// Per wavenumber k, the ny × ny block R̂(k) = Σ_di R(di) cos(2π k di/nx)
-    /// (R even in di) has its negative eigenvalues set to zero, and the table
-    /// is transformed back. `table` [j][jj][di], in place.
-    static void positive_semidefinite(const contact::SurfaceGrid &g, std::vector<double> &table)
+    /// Per circumferential wavenumber k, the ny × ny block of R,
+    /// R̂(k) = Σ_di R(di) cos(2π k di/nx) (R even in di), is mended in two
+    /// ways, and the table transformed back. `table` [j][jj][di], in place.
+    ///  * R is positive semidefinite in exact arithmetic (the part of K⁻¹
+    ///    the basis does not hold). Sampled from an FE mesh coarser than the
+    ///    grid, its blocks at the shortest wavelengths come out slightly
+    ///    indefinite (on the 6208 ring down to -1 % of the largest
+    ///    eigenvalue, at 153 of 180 wavenumbers); without a half-space's
+    ///    compliance in series the contact problem would then be
+    ///    indefinite: negative eigenvalues are set to zero.
+    ///  * With `completion_modulus` E'_s > 0, the half-space completion: at
+    ///    wavelengths well below the wall thickness a body's surface is as
+    ///    compliant as a half-space of its material, and the reduced basis
+    ///    holds none of it, so the exact R tends to the half-space's block
+    ///    Ĥ(k) (Love's rectangles at E'_s); an FE mesh with a few elements
+    ///    per wave loses it (scripts/residual_spectrum.py: the 6208 models
+    ///    below λ ≈ 3 mm). Where R̂(k) holds less than Ĥ(k), the shortfall
+    ///    (Ĥ − R̂)₊, its positive eigenvalues, is added; where the mesh
+    ///    resolves the body (R̂ ≥ Ĥ: thin-wall bending) nothing is. Only
+    ///    below the wavelength λ_c (`completion_wavelength`, the wall's
+    ///    thickness), fading out linearly in k up to 2 λ_c: at longer waves
+    ///    the half-space is no limit of anything (on the 6208 ring R̂ falls
+    ///    short of it by 40-75 % at k ≤ 10, where the basis holds the
+    ///    compliance). `added` [k]: the trace added over Ĥ's [-].
+    static void mend_per_wavenumber(const contact::SurfaceGrid &g, std::vector<double> &table,
+                                    const std::function<double(int, int)> &completion, double completion_wavelength,
+                                    std::vector<double> &added)
     {
       const int nx = g.nx, ny = g.ny, frequencies = nx / 2 + 1;
       const auto at = [&](int j, int jj, int di) -> double & {
@@ -82,21 +101,49 @@ namespace fretsim::coupling
       std::vector<double> cosine(static_cast<std::size_t>(nx));
       for (int n = 0; n < nx; ++n)
         cosine[n] = std::cos(2.0 * M_PI * n / nx);
+      // the completion's kernel by (di, j - jj)
+      std::vector<double> half_space;
+      if (completion)
+        {
+          half_space.resize(static_cast<std::size_t>(nx) * (2 * ny - 1));
+          for (int dj = 1 - ny; dj < ny; ++dj)
+            for (int di = 0; di < nx; ++di)
+              half_space[static_cast<std::size_t>(dj + ny - 1) * nx + di] = completion(di, dj);
+        }
+      added.assign(completion ? frequencies : 0, 0.0);
+      const double full_from = completion ? nx * g.hx / completion_wavelength : 0.0; // k at λ_c
+      const auto   weight    = [full_from](int k) { return std::clamp(2.0 * k / full_from - 1.0, 0.0, 1.0); };
       std::vector<Eigen::MatrixXd> blocks(frequencies, Eigen::MatrixXd(ny, ny));
 #pragma omp parallel for schedule(dynamic)
       for (int k = 0; k < frequencies; ++k)
         {
+          Eigen::MatrixXd target(ny, ny);
           for (int j = 0; j < ny; ++j)
             for (int jj = 0; jj < ny; ++jj)
               {
-                double sum = 0.0;
+                double sum = 0.0, reference = 0.0;
                 for (int di = 0; di < nx; ++di)
-                  sum += at(j, jj, di) * cosine[(static_cast<long>(k) * di) % nx];
+                  {
+                    const double c = cosine[(static_cast<long>(k) * di) % nx];
+                    sum += at(j, jj, di) * c;
+                    if (completion)
+                      reference += half_space[static_cast<std::size_t>(j - jj + ny - 1) * nx + di] * c;
+                  }
                 blocks[k](j, jj) = sum;
+                target(j, jj)    = reference;
               }
-          const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> split(blocks[k]);
-          blocks[k] = split.eigenvectors() * split.eigenvalues().cwiseMax(0.0).asDiagonal() *
-                      split.eigenvectors().transpose();
+          const auto positive_part = [](const Eigen::MatrixXd &m) -> Eigen::MatrixXd {
+            const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> split(m);
+            return split.eigenvectors() * split.eigenvalues().cwiseMax(0.0).asDiagonal() *
+                   split.eigenvectors().transpose();
+          };
+          blocks[k] = positive_part(blocks[k]);
+          if (completion && weight(k) > 0.0)
+            {
+              const Eigen::MatrixXd shortfall = weight(k) * positive_part(target - blocks[k]);
+              blocks[k] += shortfall;
+              added[k] = target.trace() > 0.0 ? shortfall.trace() / target.trace() : 0.0;
+            }
         }
       // back: R(di) = (1/nx) Σ_k w_k R̂(k) cos(2π k di/nx), w = 1 at k = 0
       // and (nx even) k = nx/2, else 2 (the mirrored half).
@@ -117,18 +164,22 @@ namespace fretsim::coupling
     /// circumference the nearest image acts: periodic, convolved without
     /// padding in x), and the structural compliance added to it if given.
     static contact::SurfaceConvolution kernel(const contact::SurfaceGrid &g, double modulus, bool periodic_x,
-                                              const std::vector<double> &structural, double &asymmetry)
+                                              const std::vector<double> &structural, const HalfSpaceCompletion &completion,
+                                              double &asymmetry, std::vector<double> &added)
     {
       const auto nearest = [g](int di) {
         di = ((di % g.nx) + g.nx) % g.nx;
         return di > g.nx / 2 ? di - g.nx : di;
       };
-      const auto love = [g, modulus, periodic_x, nearest](int di, int dj) {
-        if (modulus <= 0.0)
-          return 0.0;
-        return contact::influence::normal_displacement((periodic_x ? nearest(di) : di) * g.hx, dj * g.hy, g.hx,
-                                                       g.hy, modulus);
+      const auto love_at = [g, periodic_x, nearest](double modulus) {
+        return [g, periodic_x, nearest, modulus](int di, int dj) {
+          if (modulus <= 0.0)
+            return 0.0;
+          return contact::influence::normal_displacement((periodic_x ? nearest(di) : di) * g.hx, dj * g.hy, g.hx,
+                                                         g.hy, modulus);
+        };
       };
+      const auto love = love_at(modulus);
       if (structural.empty())
         return contact::SurfaceConvolution(g, love, periodic_x);
       // R(di; j, jj): cell (di, j) under pressure on (0, jj). Reciprocity
@@ -154,7 +205,10 @@ namespace fretsim::coupling
               deviation = std::max(deviation, std::abs(value - mean));
             }
       asymmetry = largest > 0.0 ? deviation / largest : 0.0;
-      positive_semidefinite(g, table);
+      mend_per_wavenumber(g, table,
+                          completion.modulus > 0.0 ? std::function<double(int, int)>(love_at(completion.modulus))
+                                                   : std::function<double(int, int)>(),
+                          completion.wavelength, added);
       return contact::SurfaceConvolution(
         g, contact::RowPairInfluenceFunction([g, love, table = std::move(table)](int di, int j, int jj) {
           const int wrapped = ((di % g.nx) + g.nx) % g.nx;
@@ -193,7 +247,7 @@ namespace fretsim::coupling
 
   LocalCompliance::LocalCompliance(const contact::SurfaceGrid &grid, double contact_modulus, double layer_stiffness,
                                    bool periodic_x, double sensitivity_tolerance,
-                                   const std::vector<double> &structural_compliance)
+                                   const std::vector<double> &structural_compliance, const HalfSpaceCompletion &completion)
   {
     if (!(contact_modulus >= 0.0) || !std::isfinite(contact_modulus) ||
         (contact_modulus == 0.0 && structural_compliance.empty()))
@@ -207,11 +261,18 @@ namespace fretsim::coupling
       throw std::invalid_argument("local compliance: the layer stiffness must be positive and finite");
     if (!(sensitivity_tolerance > 0.0 && sensitivity_tolerance < 1.0))
       throw std::invalid_argument("local compliance: the sensitivity tolerance must be in (0, 1)");
+    if (!(completion.modulus >= 0.0) || !std::isfinite(completion.modulus) ||
+        (completion.modulus > 0.0 && (structural_compliance.empty() || !(completion.wavelength > 0.0) ||
+                                      !std::isfinite(completion.wavelength))))
+      throw std::invalid_argument("local compliance: the half-space completion needs a structural compliance, a "
+                                  "finite modulus >= 0 and a positive wavelength");
     impl = std::make_unique<Impl>(grid, contact_modulus, layer_stiffness, periodic_x, sensitivity_tolerance,
-                                  structural_compliance);
+                                  structural_compliance, completion);
   }
 
   double LocalCompliance::structural_asymmetry() const { return impl->structural_asymmetry; }
+
+  const std::vector<double> &LocalCompliance::completion_by_wavenumber() const { return impl->completion_share; }
 
   LocalCompliance::~LocalCompliance() = default;
 

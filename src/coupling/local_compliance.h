@@ -12,7 +12,9 @@
 // solution of the half-space alone. Optionally the ring's residual
 // flexibility (the part of its compliance its reduced basis misses, as
 // reduce stores it) joins C: a kernel invariant around the circumference
-// whose rows across the width differ, applied in the same row transforms.
+// whose rows across the width differ, applied in the same row transforms,
+// completed at the short wavelengths its FE mesh does not resolve by the
+// half-space of its bodies' material.
 #include <fretsim/contact/surface_grid.h>
 
 #include <memory>
@@ -20,9 +22,22 @@
 
 namespace fretsim::coupling
 {
+  /// The half-space completion of a structural compliance (local_compliance.cpp):
+  /// per circumferential wavenumber, where the structural compliance holds
+  /// less than a half-space of `modulus` E'_s [Pa] (1/E'_s = Σ (1 - ν²)/E
+  /// over the bodies it stands for), the shortfall is added, in full below
+  /// `wavelength` λ_c [m] and fading out linearly in wavenumber up to 2 λ_c.
+  /// modulus 0: none.
+  struct HalfSpaceCompletion
+  {
+    double modulus    = 0.0;
+    double wavelength = 0.0;
+  };
+
   class LocalCompliance
   {
   public:
+
     /// Newton's matrix needs the pressure sensitivity to about 1 %: on the
     /// paper's case 1e-2 took 0.54 of the sensitivity convolutions of 1e-4
     /// at as many right-hand sides; D_max on the suite's small ring moved by
@@ -39,10 +54,11 @@ namespace fretsim::coupling
     /// or [load row jj][cell] the inward displacement of every cell per unit
     /// pressure on cell (0, jj) [m/Pa], taken as invariant around the
     /// circumference (periodic_x), made symmetric (reciprocity) and even in
-    /// x (the ring's mirror symmetry) by averaging.
+    /// x (the ring's mirror symmetry) by averaging, and completed by
+    /// `completion` (with a structural compliance only).
     LocalCompliance(const contact::SurfaceGrid &grid, double contact_modulus, double layer_stiffness,
                     bool periodic_x, double sensitivity_tolerance = default_sensitivity_tolerance,
-                    const std::vector<double> &structural_compliance = {});
+                    const std::vector<double> &structural_compliance = {}, const HalfSpaceCompletion &completion = {});
     ~LocalCompliance();
 
     /// Solves the contact of the layer on the half-space for the structural
@@ -76,6 +92,13 @@ namespace fretsim::coupling
     /// How far the structural compliance was from symmetric and even:
     /// max |R - R_sym| / max |R| before the averaging (0 without one) [-].
     double structural_asymmetry() const;
+
+    /// The half-space completion per circumferential wavenumber k = 0 …
+    /// nx/2: the compliance it added over the half-space's own (trace of
+    /// the ny × ny blocks; 0 where the structural compliance held at least
+    /// the half-space's or k is below the completion's band, 1 where it
+    /// held none) [-]; empty without one.
+    const std::vector<double> &completion_by_wavenumber() const;
 
   private:
     struct Impl;

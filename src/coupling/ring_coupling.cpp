@@ -129,6 +129,12 @@ namespace fretsim::coupling
     else if (!housing.residual_pressure.empty())
       for (std::size_t k = 0; k < joint.residual_pressure.size(); ++k)
         joint.residual_pressure[k] += housing.residual_pressure[k];
+    const auto compliance_of = [](double modulus, const std::vector<double> &table) {
+      return table.empty() || modulus <= 0.0 ? 0.0 : 1.0 / modulus;
+    };
+    const double completion_compliance = compliance_of(ring.residual_half_space_modulus, ring.residual_pressure) +
+                                         compliance_of(housing.residual_half_space_modulus, housing.residual_pressure);
+    joint.residual_half_space_modulus = completion_compliance > 0.0 ? 1.0 / completion_compliance : 0.0;
     joint.residual_ball               = ring.residual_ball;
     joint.residual_column_angle       = ring.residual_column_angle;
     joint.mass.assign(n * n, 0.0);
@@ -299,7 +305,10 @@ namespace fretsim::coupling
           const bool closed = std::abs(grid.nx * grid.hx - 2.0 * M_PI * radius) <= 1e-9 * radius;
           local = std::make_unique<LocalCompliance>(grid, settings.local_compliance_modulus,
                                                     settings.normal_stiffness, closed,
-                                                    settings.sensitivity_tolerance, ring.residual_pressure);
+                                                    settings.sensitivity_tolerance, ring.residual_pressure,
+                                                    HalfSpaceCompletion{
+                                                      ring.residual_pressure.empty() ? 0.0 : ring.residual_half_space_modulus,
+                                                      settings.half_space_completion_wavelength});
           for (auto *field : {&local_pressure, &local_penetration})
             field->assign(cells, 0.0);
         }

@@ -76,6 +76,11 @@ namespace fretsim::coupling
     /// ball.
     std::vector<double> residual_pressure, residual_ball;
     double              residual_column_angle = 0.0;
+    /// E'_s [Pa], 1/E'_s = Σ (1 - ν²)/E over the bodies whose residual
+    /// flexibility `residual_pressure` holds: it is completed to their
+    /// half-space where its FE mesh loses the short wavelengths
+    /// (LocalCompliance); 0: taken as it is.
+    double residual_half_space_modulus = 0.0;
 
     /// Coordinates of a flexible housing appended after the ring's own
     /// (with_flexible_housing); 0: the housing is rigid and fixed.
@@ -114,6 +119,7 @@ namespace fretsim::coupling
     /// Its residual flexibility (optional): the bore's outward displacement
     /// of every cell per unit pressure on cell (0, jj), [jj][cell] [m/Pa].
     std::vector<double> residual_pressure;
+    double              residual_half_space_modulus = 0.0; ///< as ReducedRing's [Pa]
   };
 
   /// The ring and a flexible housing as one system for the co-simulation:
@@ -123,7 +129,8 @@ namespace fretsim::coupling
   /// between the two surfaces, and its tractions return to both bodies, equal
   /// and opposite, through the same rows (still consistent and conservative).
   /// The balls act on the ring's columns only. The two bodies' residual
-  /// flexibilities, both opening the gap under the pressure, add in series.
+  /// flexibilities, both opening the gap under the pressure, add in series
+  /// (and so do the compliances of their half-space completions).
   /// Throws std::invalid_argument if the two interface grids or radii differ.
   ReducedRing with_flexible_housing(const ReducedRing &ring, const ReducedHousing &housing);
 
@@ -151,6 +158,10 @@ namespace fretsim::coupling
     /// interface's local compliance (LocalCompliance), 1/E' = Σ (1 - ν²)/E
     /// over the bodies it stands for; 0: none, the layer alone.
     double local_compliance_modulus = 0.0;
+    /// λ_c [m] of the residual flexibility's half-space completion
+    /// (ReducedRing::residual_half_space_modulus; LocalCompliance::Completion):
+    /// in full below it, fading out up to 2 λ_c.
+    double half_space_completion_wavelength = 0.0;
     /// Where the half-space's pressure sensitivity in Newton's matrix stops,
     /// relative to each right-hand side (LocalCompliance) [-].
     double sensitivity_tolerance = LocalCompliance::default_sensitivity_tolerance;

@@ -151,6 +151,10 @@ namespace fretsim::scenes
     std::string                    local_compliance   = "none"; ///< Interface/Local compliance
     bool                           ring_residual      = true;   ///< Interface/Ring residual flexibility
     bool                           housing_residual   = true;   ///< Interface/Housing residual flexibility
+    /// E/(1 - ν²) of the ring's and the housing's materials, for the residual
+    /// flexibilities' half-space completion; 0: Interface/Half-space
+    /// completion off [Pa].
+    double ring_completion_modulus = 0.0, housing_completion_modulus = 0.0;
     std::string                    in_step_bristle_law = "implicit Euler"; ///< Interface/In-step bristle law
     std::string                    stage_predictor = "cutoff order";       ///< Integrator/Stage predictor
     int                            samples_per_ball_pass = 40;
@@ -262,6 +266,18 @@ namespace fretsim::scenes
                       "housing's static compliance its reduced basis misses on its bore (R_h = K^-1 - T K_r^-1 T^T, "
                       "stored by `fretsim reduce` in its model file) in series with the layer, as the ring's "
                       "(README) [-].", "true|false"),
+      Spec::selection("Interface/Half-space completion", "true",
+                      "Complete the residual flexibilities at the short wavelengths their FE meshes lose: per "
+                      "circumferential wavenumber, where the model file's residual flexibility holds less compliance "
+                      "than an elastic half-space of its body's material (the exact limit at wavelengths well below "
+                      "the wall thickness, which no reduced basis holds), the shortfall is added, in full below the "
+                      "completion wavelength and fading out up to twice it. summary.json reports how much per "
+                      "wavenumber (README) [-].",
+                      "true|false"),
+      Spec::non_negative("Interface/Half-space completion wavelength", "0",
+                         "lambda_c of the half-space completion: the wavelength around the circumference below which "
+                         "the residual flexibility is completed in full. 0: the ring's thinnest wall (Outer radius "
+                         "minus Groove bottom radius of its reduction configuration; 3.65 mm on the 6208) [m]."),
       Spec::positive("Interface/Housing Young's modulus", "2.08e11",
                      "E of the rigid housing's material, for its local compliance [Pa]."),
       Spec::real_range("Interface/Housing Poisson ratio", "0.3", "nu of the housing's material [-].", 0.0, 0.5,
@@ -365,7 +381,10 @@ namespace fretsim::scenes
     if (!par.get("Model/Housing reduction configuration").empty())
       {
         s.housing_model = housing_model_source(par);
-        app::read_housing_around(s.housing_model->config, body.ring, par.file(), "Model/Housing reduction configuration");
+        const auto housing = app::read_housing_around(s.housing_model->config, body.ring, par.file(),
+                                                      "Model/Housing reduction configuration");
+        const auto &material = housing.request.materials.at(fem::MaterialId::housing);
+        s.housing_completion_modulus = material.youngs_modulus / (1.0 - material.poisson_ratio * material.poisson_ratio);
       }
 
     auto &b                   = s.run.bearing;
@@ -379,7 +398,7 @@ namespace fretsim::scenes
       par.reject("Bearing/Ball diameter", "the ring's groove radius must exceed half the ball diameter");
     if (!(b.pitch_diameter > b.ball_diameter))
       par.reject("Bearing/Ball diameter", "too large for the ring's groove bottom radius");
-    const auto  &ring_material = body.materials.begin()->second;
+    const auto  &ring_material = body.materials.at(fem::MaterialId::ring);
     s.ring_poisson_ratio       = ring_material.poisson_ratio;
     const double ball_modulus  = par.get_double("Bearing/Young's modulus");
     const double ball_poisson  = par.get_double("Bearing/Poisson ratio");
@@ -441,6 +460,16 @@ namespace fretsim::scenes
                  "the same local compliance");
     s.housing_residual = par.get_bool("Interface/Housing residual flexibility");
     s.run.pressure_residual_at_balls = s.ring_residual && par.get_bool("Interface/Residual flexibility at the balls");
+    if (par.get_bool("Interface/Half-space completion"))
+      {
+        s.ring_completion_modulus =
+          ring_material.youngs_modulus / (1.0 - ring_material.poisson_ratio * ring_material.poisson_ratio);
+        const double wavelength = par.get_double("Interface/Half-space completion wavelength");
+        interface.half_space_completion_wavelength =
+          wavelength > 0.0 ? wavelength : body.ring.outer_radius - body.ring.groove_bottom_radius;
+      }
+    else
+      s.housing_completion_modulus = 0.0;
     s.run.damping_ratio            = par.get_double("Ring/Damping ratio");
 
     auto &integrator                  = s.run.integrator;
@@ -536,6 +565,7 @@ namespace fretsim::scenes
         ring.residual_pressure     = model.residual.inward_per_pressure(ring.interface_grid.cell_area());
         ring.residual_ball         = model.residual.ball;
         ring.residual_column_angle = model.residual.column_angle;
+        ring.residual_half_space_modulus = s.ring_completion_modulus;
       }
     try
       {
@@ -563,6 +593,7 @@ namespace fretsim::scenes
             housing.residual_pressure = housing_model.residual.inward_per_pressure(housing.interface_grid.cell_area());
             for (double &value : housing.residual_pressure)
               value = -value;
+            housing.residual_half_space_modulus = s.housing_completion_modulus;
           }
         try
           {
@@ -759,6 +790,21 @@ namespace fretsim::scenes
     summary.set("ring_residual_flexibility", s.ring_residual);
     summary.set("housing_residual_flexibility", s.housing_model && s.housing_residual);
     summary.set("residual_flexibility_at_balls", s.run.pressure_residual_at_balls && !ring.residual_ball.empty());
+    summary.set("half_space_completion", ring.residual_half_space_modulus > 0.0);
+    if (const auto *local = simulation.local_compliance(); local && !local->completion_by_wavenumber().empty())
+      { // where the residual flexibilities' FE meshes lose their bodies' local compliance
+        const auto     &added = local->completion_by_wavenumber();
+        output::Summary completion;
+        completion.set("modulus_Pa", ring.residual_half_space_modulus);
+        completion.set("wavelength_m", s.run.interface.half_space_completion_wavelength);
+        const auto first = std::find_if(added.begin(), added.end(), [](double share) { return share > 0.1; });
+        completion.set("longest_wavelength_over_10_percent_m",
+                       first == added.end() ? 0.0
+                                            : 2.0 * M_PI * ring.interface_radius /
+                                                    static_cast<double>(std::max<std::ptrdiff_t>(first - added.begin(), 1)));
+        completion.set("added_share_by_wavenumber", added);
+        summary.set_object("half_space_completion_spectrum", completion);
+      }
     if (stats.raceway_residual_largest > 0.0)
       { // the reciprocal term's size and the sweep's correction of it
         output::Summary raceway;

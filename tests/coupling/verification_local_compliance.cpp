@@ -385,3 +385,92 @@ TEST(LocalCompliance, TheInterfaceJacobianCarriesTheRingsResidualFlexibility)
       }
   EXPECT_EQ(top, 10);
 }
+
+TEST(LocalCompliance, TheHalfSpaceCompletionAddsWhatATableLacksAtShortWavesOnly)
+{
+  // A coarse FE mesh's residual flexibility loses the short wavelengths
+  // around the circumference, where the exact one tends to a half-space of
+  // the body's material. Given a half-space's own coefficients (E'_2) as the
+  // table, low-passed to the wavenumbers k ≤ 10 of the 120-column grid, the
+  // completion at E'_2 must restore the half-space where it acts in full
+  // (the same pressure as E'_2 alone, to the solver's stopping gap as
+  // above), add nothing to the complete table, and act only in its band:
+  // in full from the wavenumber of λ_c, none below half of it, linear in k
+  // between (the share added is exactly the ramp where the table holds
+  // nothing).
+  const double radius = 0.04, modulus = 1.1e11, layer = 1e17;
+  const auto   grid    = contact::SurfaceGrid::centred(120, 8, M_PI * radius, 0.009);
+  const double length  = grid.nx * grid.hx;
+  const int    kept    = 10;
+  const auto   nearest = [&](int di) {
+    di = ((di % grid.nx) + grid.nx) % grid.nx;
+    return di > grid.nx / 2 ? di - grid.nx : di;
+  };
+  const auto love = [&](int di, int dj) {
+    return contact::influence::normal_displacement(nearest(di) * grid.hx, dj * grid.hy, grid.hx, grid.hy, modulus);
+  };
+  // low-passed kernel by (di, dj): (1/nx) Σ_{k ≤ kept} w_k Ĥ(k; dj) cos(2π k di/nx)
+  const auto low_passed = [&](int di, int dj) {
+    double sum = 0.0;
+    for (int k = 0; k <= kept; ++k)
+      {
+        double spectrum = 0.0;
+        for (int d = 0; d < grid.nx; ++d)
+          spectrum += love(d, dj) * std::cos(2.0 * M_PI * k * d / grid.nx);
+        sum += (k == 0 ? 1.0 : 2.0) * spectrum * std::cos(2.0 * M_PI * k * di / grid.nx);
+      }
+    return sum / grid.nx;
+  };
+  std::vector<double> complete(grid.size() * grid.ny), lacking(grid.size() * grid.ny);
+  for (int jj = 0; jj < grid.ny; ++jj)
+    for (int j = 0; j < grid.ny; ++j)
+      for (int i = 0; i < grid.nx; ++i)
+        {
+          complete[jj * grid.size() + grid.index(i, j)] = love(i, j - jj);
+          lacking[jj * grid.size() + grid.index(i, j)]  = low_passed(i, j - jj);
+        }
+  const auto tolerance = LocalCompliance::default_sensitivity_tolerance;
+  // in full from k = kept + 1 on
+  const HalfSpaceCompletion from_the_cut{modulus, length / (kept + 1)};
+  LocalCompliance           reference(grid, modulus, layer, true);
+  LocalCompliance           completed(grid, 0.0, layer, true, tolerance, lacking, from_the_cut);
+  LocalCompliance           uncompleted(grid, 0.0, layer, true, tolerance, lacking);
+  LocalCompliance           already(grid, 0.0, layer, true, tolerance, complete, from_the_cut);
+  contact::Field            penetration(grid.size());
+  for (int j = 0; j < grid.ny; ++j)
+    for (int i = 0; i < grid.nx; ++i)
+      penetration[grid.index(i, j)] = 1e-6 * (std::cos(grid.x(i) / radius) - 0.9) * (1.0 + 0.02 * j);
+  const auto solve = [&](LocalCompliance &compliance) {
+    contact::Field pressure(grid.size(), 0.0);
+    compliance.solve(penetration, pressure);
+    return pressure;
+  };
+  const auto difference = [](const contact::Field &a, const contact::Field &b) {
+    double worst = 0.0;
+    for (std::size_t c = 0; c < a.size(); ++c)
+      worst = std::max(worst, std::abs(a[c] - b[c]));
+    return worst / largest(b);
+  };
+  const contact::Field exact = solve(reference);
+  EXPECT_LT(difference(solve(completed), exact), 1e-4);
+  EXPECT_LT(difference(solve(already), exact), 1e-4);
+  EXPECT_GT(largest(solve(uncompleted)) / largest(exact), 1.2); // what the short waves hold matters
+  ASSERT_EQ(completed.completion_by_wavenumber().size(), static_cast<std::size_t>(grid.nx / 2 + 1));
+  EXPECT_TRUE(uncompleted.completion_by_wavenumber().empty());
+  for (int k = 0; k <= grid.nx / 2; ++k)
+    {
+      // each k's trace; Love's blocks and their low-pass agree to rounding
+      EXPECT_NEAR(completed.completion_by_wavenumber()[k], k <= kept ? 0.0 : 1.0, 1e-9) << "k = " << k;
+      EXPECT_NEAR(already.completion_by_wavenumber()[k], 0.0, 1e-9) << "k = " << k;
+    }
+
+  // The band: λ_c at k = 40, so none up to k = 20, half at 30, all from 40.
+  const LocalCompliance banded(grid, 0.0, layer, true, tolerance, lacking, HalfSpaceCompletion{modulus, length / 40});
+  for (const auto &[k, share] : std::vector<std::pair<int, double>>{{11, 0.0}, {20, 0.0}, {25, 0.25}, {30, 0.5},
+                                                                    {39, 0.95}, {40, 1.0}, {60, 1.0}})
+    EXPECT_NEAR(banded.completion_by_wavenumber()[k], share, 1e-9) << "k = " << k;
+
+  EXPECT_THROW(LocalCompliance(grid, modulus, layer, true, tolerance, {}, from_the_cut), std::invalid_argument);
+  EXPECT_THROW(LocalCompliance(grid, 0.0, layer, true, tolerance, lacking, HalfSpaceCompletion{modulus, 0.0}),
+               std::invalid_argument);
+}

@@ -76,10 +76,11 @@ namespace fretsim::coupling
     ///    eigenvalue, at 153 of 180 wavenumbers); without a half-space's
     ///    compliance in series the contact problem would then be
     ///    indefinite: negative eigenvalues are set to zero.
-    ///  * With `completion_modulus` E'_s > 0, the half-space completion: at
-    ///    wavelengths well below the wall thickness a body's surface is as
-    ///    compliant as a half-space of its material, and the reduced basis
-    ///    holds none of it, so the exact R tends to the half-space's block
+    ///  * With `completion` (Love's kernel at E'_s by (di, j - jj)), the
+    ///    half-space completion: at wavelengths well below the wall
+    ///    thickness a body's surface is as compliant as a half-space of its
+    ///    material, and the reduced basis holds none of it, so the exact R
+    ///    tends to the half-space's block
     ///    Ĥ(k) (Love's rectangles at E'_s); an FE mesh with a few elements
     ///    per wave loses it (scripts/residual_spectrum.py: the 6208 models
     ///    below λ ≈ 3 mm). Where R̂(k) holds less than Ĥ(k), the shortfall

@@ -37,7 +37,6 @@ namespace fretsim::coupling
   class LocalCompliance
   {
   public:
-
     /// Newton's matrix needs the pressure sensitivity to about 1 %: on the
     /// paper's case 1e-2 took 0.54 of the sensitivity convolutions of 1e-4
     /// at as many right-hand sides; D_max on the suite's small ring moved by

@@ -159,7 +159,7 @@ namespace fretsim::coupling
     /// over the bodies it stands for; 0: none, the layer alone.
     double local_compliance_modulus = 0.0;
     /// λ_c [m] of the residual flexibility's half-space completion
-    /// (ReducedRing::residual_half_space_modulus; LocalCompliance::Completion):
+    /// (ReducedRing::residual_half_space_modulus; HalfSpaceCompletion):
     /// in full below it, fading out up to 2 λ_c.
     double half_space_completion_wavelength = 0.0;
     /// Where the half-space's pressure sensitivity in Newton's matrix stops,

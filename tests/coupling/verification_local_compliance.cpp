@@ -27,6 +27,55 @@ namespace
 {
   double largest(const contact::Field &field) { return *std::max_element(field.begin(), field.end()); }
 
+  /// Love's coefficient of a half-space of plane modulus `modulus` [Pa]
+  /// between cells di columns (nearest image around the closed
+  /// circumference) and dj rows apart [m/Pa].
+  double periodic_love(const contact::SurfaceGrid &grid, int di, int dj, double modulus)
+  {
+    di = ((di % grid.nx) + grid.nx) % grid.nx;
+    const int nearest = di > grid.nx / 2 ? di - grid.nx : di;
+    return contact::influence::normal_displacement(nearest * grid.hx, dj * grid.hy, grid.hx, grid.hy, modulus);
+  }
+
+  /// A structural compliance table [load row jj][cell] of a kernel by (di, j - jj).
+  template <typename Kernel>
+  std::vector<double> structural_table(const contact::SurfaceGrid &grid, const Kernel &kernel)
+  {
+    std::vector<double> table(grid.size() * grid.ny);
+    for (int jj = 0; jj < grid.ny; ++jj)
+      for (int j = 0; j < grid.ny; ++j)
+        for (int i = 0; i < grid.nx; ++i)
+          table[jj * grid.size() + grid.index(i, j)] = kernel(i, j - jj);
+    return table;
+  }
+
+  /// The structural-compliance tests' approach [m]: a cosine around the
+  /// ring, its crest pressed 0.1 µm in, slightly uneven across the width.
+  contact::Field ring_penetration(const contact::SurfaceGrid &grid, double radius)
+  {
+    contact::Field penetration(grid.size());
+    for (int j = 0; j < grid.ny; ++j)
+      for (int i = 0; i < grid.nx; ++i)
+        penetration[grid.index(i, j)] = 1e-6 * (std::cos(grid.x(i) / radius) - 0.9) * (1.0 + 0.02 * j);
+    return penetration;
+  }
+
+  contact::Field pressure_under(LocalCompliance &compliance, const contact::Field &penetration)
+  {
+    contact::Field pressure(penetration.size(), 0.0);
+    compliance.solve(penetration, pressure);
+    return pressure;
+  }
+
+  /// max |a - b| / max b.
+  double difference(const contact::Field &a, const contact::Field &b)
+  {
+    double worst = 0.0;
+    for (std::size_t c = 0; c < a.size(); ++c)
+      worst = std::max(worst, std::abs(a[c] - b[c]));
+    return worst / largest(b);
+  }
+
   /// The interface Jacobian checks' case: an interference fit keeps every
   /// cell loaded and a large μ every bristle sticking (a smooth map); the
   /// half-space in series; the accepted state (q0, v) and the perturbed q.
@@ -276,36 +325,14 @@ TEST(LocalCompliance, AStructuralComplianceAddsInSeriesWithTheHalfSpace)
   // stopping gap (bound as in the seam test above).
   const double radius = 0.04, first = 2.3e11, second = 1.1e11, layer = 1e17;
   const auto   grid   = contact::SurfaceGrid::centred(120, 8, M_PI * radius, 0.009);
-  const auto   nearest = [&](int di) {
-    di = ((di % grid.nx) + grid.nx) % grid.nx;
-    return di > grid.nx / 2 ? di - grid.nx : di;
-  };
-  std::vector<double> table(grid.size() * grid.ny);
-  for (int jj = 0; jj < grid.ny; ++jj)
-    for (int j = 0; j < grid.ny; ++j)
-      for (int i = 0; i < grid.nx; ++i)
-        table[jj * grid.size() + grid.index(i, j)] =
-          contact::influence::normal_displacement(nearest(i) * grid.hx, (j - jj) * grid.hy, grid.hx, grid.hy, second);
+  auto table = structural_table(grid, [&](int di, int dj) { return periodic_love(grid, di, dj, second); });
   LocalCompliance with_table(grid, first, layer, true, LocalCompliance::default_sensitivity_tolerance, table);
   LocalCompliance combined(grid, 1.0 / (1.0 / first + 1.0 / second), layer, true);
   LocalCompliance table_alone(grid, 0.0, layer, true, LocalCompliance::default_sensitivity_tolerance, table);
   LocalCompliance second_alone(grid, second, layer, true);
   EXPECT_LT(with_table.structural_asymmetry(), 1e-12); // Love's coefficients: symmetric and even
-  contact::Field penetration(grid.size());
-  for (int j = 0; j < grid.ny; ++j)
-    for (int i = 0; i < grid.nx; ++i)
-      penetration[grid.index(i, j)] = 1e-6 * (std::cos(grid.x(i) / radius) - 0.9) * (1.0 + 0.02 * j);
-  const auto solve = [&](LocalCompliance &compliance) {
-    contact::Field pressure(grid.size(), 0.0);
-    compliance.solve(penetration, pressure);
-    return pressure;
-  };
-  const auto difference = [](const contact::Field &a, const contact::Field &b) {
-    double worst = 0.0;
-    for (std::size_t c = 0; c < a.size(); ++c)
-      worst = std::max(worst, std::abs(a[c] - b[c]));
-    return worst / largest(b);
-  };
+  const contact::Field penetration = ring_penetration(grid, radius);
+  const auto solve = [&](LocalCompliance &compliance) { return pressure_under(compliance, penetration); };
   const contact::Field reference = solve(combined), softer = solve(second_alone);
   EXPECT_LT(difference(solve(with_table), reference), 1e-4);
   EXPECT_LT(difference(solve(table_alone), softer), 1e-4);
@@ -402,13 +429,7 @@ TEST(LocalCompliance, TheHalfSpaceCompletionAddsWhatATableLacksAtShortWavesOnly)
   const auto   grid    = contact::SurfaceGrid::centred(120, 8, M_PI * radius, 0.009);
   const double length  = grid.nx * grid.hx;
   const int    kept    = 10;
-  const auto   nearest = [&](int di) {
-    di = ((di % grid.nx) + grid.nx) % grid.nx;
-    return di > grid.nx / 2 ? di - grid.nx : di;
-  };
-  const auto love = [&](int di, int dj) {
-    return contact::influence::normal_displacement(nearest(di) * grid.hx, dj * grid.hy, grid.hx, grid.hy, modulus);
-  };
+  const auto   love    = [&](int di, int dj) { return periodic_love(grid, di, dj, modulus); };
   // low-passed kernel by (di, dj): (1/nx) Σ_{k ≤ kept} w_k Ĥ(k; dj) cos(2π k di/nx)
   const auto low_passed = [&](int di, int dj) {
     double sum = 0.0;
@@ -421,14 +442,7 @@ TEST(LocalCompliance, TheHalfSpaceCompletionAddsWhatATableLacksAtShortWavesOnly)
       }
     return sum / grid.nx;
   };
-  std::vector<double> complete(grid.size() * grid.ny), lacking(grid.size() * grid.ny);
-  for (int jj = 0; jj < grid.ny; ++jj)
-    for (int j = 0; j < grid.ny; ++j)
-      for (int i = 0; i < grid.nx; ++i)
-        {
-          complete[jj * grid.size() + grid.index(i, j)] = love(i, j - jj);
-          lacking[jj * grid.size() + grid.index(i, j)]  = low_passed(i, j - jj);
-        }
+  const auto complete = structural_table(grid, love), lacking = structural_table(grid, low_passed);
   const auto tolerance = LocalCompliance::default_sensitivity_tolerance;
   // in full from k = kept + 1 on
   const HalfSpaceCompletion from_the_cut{modulus, length / (kept + 1)};
@@ -436,21 +450,8 @@ TEST(LocalCompliance, TheHalfSpaceCompletionAddsWhatATableLacksAtShortWavesOnly)
   LocalCompliance           completed(grid, 0.0, layer, true, tolerance, lacking, from_the_cut);
   LocalCompliance           uncompleted(grid, 0.0, layer, true, tolerance, lacking);
   LocalCompliance           already(grid, 0.0, layer, true, tolerance, complete, from_the_cut);
-  contact::Field            penetration(grid.size());
-  for (int j = 0; j < grid.ny; ++j)
-    for (int i = 0; i < grid.nx; ++i)
-      penetration[grid.index(i, j)] = 1e-6 * (std::cos(grid.x(i) / radius) - 0.9) * (1.0 + 0.02 * j);
-  const auto solve = [&](LocalCompliance &compliance) {
-    contact::Field pressure(grid.size(), 0.0);
-    compliance.solve(penetration, pressure);
-    return pressure;
-  };
-  const auto difference = [](const contact::Field &a, const contact::Field &b) {
-    double worst = 0.0;
-    for (std::size_t c = 0; c < a.size(); ++c)
-      worst = std::max(worst, std::abs(a[c] - b[c]));
-    return worst / largest(b);
-  };
+  const contact::Field      penetration = ring_penetration(grid, radius);
+  const auto solve = [&](LocalCompliance &compliance) { return pressure_under(compliance, penetration); };
   const contact::Field exact = solve(reference);
   EXPECT_LT(difference(solve(completed), exact), 1e-4);
   EXPECT_LT(difference(solve(already), exact), 1e-4);

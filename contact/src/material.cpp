@@ -4,10 +4,7 @@ namespace fretsim::contact
 {
   double MaterialPair::contact_modulus() const
   {
-    const double compliance =
-      (1.0 - lower.poisson_ratio * lower.poisson_ratio) / lower.youngs_modulus +
-      (1.0 - upper.poisson_ratio * upper.poisson_ratio) / upper.youngs_modulus;
-    return 1.0 / compliance;
+    return 1.0 / (1.0 / lower.plane_modulus() + 1.0 / upper.plane_modulus());
   }
 
   double MaterialPair::tangential_modulus() const

@@ -12,6 +12,7 @@
 #include "scenes/surface_grid_output.h"
 
 #include <fretsim/contact/dang_van.h>
+#include <fretsim/contact/material.h>
 #include <fretsim/contact/subsurface_stress.h>
 #include <fretsim/fem/parallel_environment.h>
 #include <fretsim/reduction/reduced_model.h>
@@ -378,13 +379,15 @@ namespace fretsim::scenes
     if (!body.ring.has_groove())
       par.reject("Model/Reduction configuration", "the ring in '" + s.ring_model.config +
                                                     "' has no raceway groove; a ball bearing needs one");
+    const auto elastic = [](const fem::Material &m) { return contact::ElasticMaterial{m.youngs_modulus, m.poisson_ratio}; };
+    const bool completion = par.get_bool("Interface/Half-space completion");
     if (!par.get("Model/Housing reduction configuration").empty())
       {
         s.housing_model = housing_model_source(par);
         const auto housing = app::read_housing_around(s.housing_model->config, body.ring, par.file(),
                                                       "Model/Housing reduction configuration");
-        const auto &material = housing.request.materials.at(fem::MaterialId::housing);
-        s.housing_completion_modulus = material.youngs_modulus / (1.0 - material.poisson_ratio * material.poisson_ratio);
+        if (completion)
+          s.housing_completion_modulus = elastic(housing.request.materials.at(fem::MaterialId::housing)).plane_modulus();
       }
 
     auto &b                   = s.run.bearing;
@@ -398,13 +401,12 @@ namespace fretsim::scenes
       par.reject("Bearing/Ball diameter", "the ring's groove radius must exceed half the ball diameter");
     if (!(b.pitch_diameter > b.ball_diameter))
       par.reject("Bearing/Ball diameter", "too large for the ring's groove bottom radius");
-    const auto  &ring_material = body.materials.at(fem::MaterialId::ring);
-    s.ring_poisson_ratio       = ring_material.poisson_ratio;
-    const double ball_modulus  = par.get_double("Bearing/Young's modulus");
-    const double ball_poisson  = par.get_double("Bearing/Poisson ratio");
+    const auto ring_material = elastic(body.materials.at(fem::MaterialId::ring));
+    s.ring_poisson_ratio     = ring_material.poisson_ratio;
     const double contact_modulus =
-      1.0 / ((1.0 - ring_material.poisson_ratio * ring_material.poisson_ratio) / ring_material.youngs_modulus +
-             (1.0 - ball_poisson * ball_poisson) / ball_modulus);
+      contact::MaterialPair{ring_material,
+                            {par.get_double("Bearing/Young's modulus"), par.get_double("Bearing/Poisson ratio")}}
+        .contact_modulus();
     try
       {
         s.run.ball_stiffness = coupling::ball_contact_stiffness(b, contact_modulus).combined;
@@ -445,13 +447,10 @@ namespace fretsim::scenes
           par.reject("Interface/Local compliance",
                      "none with a flexible housing (Model/Housing reduction configuration): its reduced model "
                      "carries its compliance");
-        const double housing_poisson = par.get_double("Interface/Housing Poisson ratio");
-        double       compliance      = (1.0 - housing_poisson * housing_poisson) /
-                                par.get_double("Interface/Housing Young's modulus");
-        if (local == "both")
-          compliance += (1.0 - ring_material.poisson_ratio * ring_material.poisson_ratio) /
-                        ring_material.youngs_modulus;
-        interface.local_compliance_modulus = 1.0 / compliance;
+        const contact::ElasticMaterial housing{par.get_double("Interface/Housing Young's modulus"),
+                                               par.get_double("Interface/Housing Poisson ratio")};
+        interface.local_compliance_modulus =
+          local == "both" ? contact::MaterialPair{ring_material, housing}.contact_modulus() : housing.plane_modulus();
       }
     s.ring_residual = par.get_bool("Interface/Ring residual flexibility");
     if (s.ring_residual && s.local_compliance == "both")
@@ -460,16 +459,13 @@ namespace fretsim::scenes
                  "the same local compliance");
     s.housing_residual = par.get_bool("Interface/Housing residual flexibility");
     s.run.pressure_residual_at_balls = s.ring_residual && par.get_bool("Interface/Residual flexibility at the balls");
-    if (par.get_bool("Interface/Half-space completion"))
+    if (completion)
       {
-        s.ring_completion_modulus =
-          ring_material.youngs_modulus / (1.0 - ring_material.poisson_ratio * ring_material.poisson_ratio);
-        const double wavelength = par.get_double("Interface/Half-space completion wavelength");
+        s.ring_completion_modulus = ring_material.plane_modulus();
+        const double wavelength   = par.get_double("Interface/Half-space completion wavelength");
         interface.half_space_completion_wavelength =
           wavelength > 0.0 ? wavelength : body.ring.outer_radius - body.ring.groove_bottom_radius;
       }
-    else
-      s.housing_completion_modulus = 0.0;
     s.run.damping_ratio            = par.get_double("Ring/Damping ratio");
 
     auto &integrator                  = s.run.integrator;

@@ -11,6 +11,9 @@ namespace fretsim::contact
     double poisson_ratio  = 0.3;   ///< nu [-]
 
     double shear_modulus() const { return youngs_modulus / (2.0 * (1.0 + poisson_ratio)); }
+    /// E' = E/(1-nu^2): the body's own share of a contact modulus, a
+    /// half-space of it deflects by Love's coefficients at E' [Pa].
+    double plane_modulus() const { return youngs_modulus / (1.0 - poisson_ratio * poisson_ratio); }
   };
 
   /// The pair of bodies: `lower` carries the surface grid (the flat, the ring),

@@ -2,7 +2,7 @@
 // Hertz pressure (64^2 .. 512^2) and the subsurface stresses of sliding Hertz
 // contact on 8 depth layers (64^2 .. 256^2; direct only up to 128^2).
 // Each MLMI/FFT run reports its error against the DC-FFT result (exact to
-// round-off against direct summation, REFERENCES.md §6.3) as a counter.
+// round-off against direct summation, docs/references.md §6.3) as a counter.
 //
 //   OMP_NUM_THREADS=1 ./bench/bench_mlmi   single thread
 //   ./bench/bench_mlmi                     both cores
@@ -36,7 +36,7 @@ using namespace fretsim::contact;
 
 namespace
 {
-  // Paper case (REFERENCES.md §1.2): R = 50 mm, P = 1250 N, steel on steel.
+  // Paper case (docs/references.md §1.2): R = 50 mm, P = 1250 N, steel on steel.
   const double sphere_radius = 0.05, load = 1250.0, poisson = 0.3;
   const double contact_modulus = 200e9 / (2.0 * (1.0 - poisson * poisson));
   const double friction        = 0.5; // full-slip shear q_x = mu p

@@ -9,7 +9,7 @@
 //                          and against a tolerance-1e-12 run of the same grid
 //                          (the solver's own error), and the energy error;
 //   BM_BristleStep/N, BM_ElastoplasticBristleStep/N: the fast models' step.
-// Issue 5's target: ~0.07 s a step at 64^2, ~0.3 s at 128^2, loop within
+// Target: ~0.07 s a step at 64^2, ~0.3 s at 128^2, loop within
 // 2e-4 muP.
 #include <fretsim/contact/bristle.h>
 #include <fretsim/contact/elastoplastic_bristle.h>

@@ -23,7 +23,7 @@ using namespace fretsim::contact;
 
 namespace
 {
-  const double nu = 0.3, a = 752.8e-6, p0 = 1053.2e6; // paper case, REFERENCES §1.2
+  const double nu = 0.3, a = 752.8e-6, p0 = 1053.2e6; // paper case, docs/references.md §1.2
 
   struct Case
   {

@@ -182,7 +182,7 @@ namespace fretsim::fem
       PC pc;
       check_petsc(KSPGetPC(ksp, &pc), "KSPGetPC");
       check_petsc(PCSetType(pc, PCGAMG), "PCSetType");
-      // Measured on the Q2 6208 ring (tests/fem/slow_scaling.cpp, README):
+      // Measured on the Q2 6208 ring (tests/fem/slow_scaling.cpp, docs/performance.md):
       // a quadratic hexahedron couples a node with up to 125 others, so the
       // graph is already wide; squaring it for aggressive coarsening on the
       // first level (PETSc's default) costs more than it saves.

@@ -1,6 +1,6 @@
 // The bearing_housing scene end to end on a small grooved ring (a coarse
 // Craig–Bampton model built on first use): the run completes; the interface
-// pressure repeats at the kinematic ball pass frequency (issue 8: 1 %); the
+// pressure repeats at the kinematic ball pass frequency (within 1 %); the
 // housing takes what the balls push; the results file has the documented
 // layout; a second run reuses the model; bad input exits with 2 naming the
 // parameter and writing nothing; a run that fails leaves a readable file.
@@ -78,7 +78,7 @@ TEST(BearingScene, RunsEndToEndAndTheInterfaceSeesTheBallPass)
   EXPECT_NE(result.output.find("building it"), std::string::npos) << result.output;
   const auto summary = read_text(dir / "out" / "summary.json");
   std::printf("%s\n", summary.c_str());
-  // Issue 8: the ball pass seen in the pressure at the top of the interface
+  // The ball pass seen in the pressure at the top of the interface
   // within 1 % of f_bp = Z f_i (1 - D_w/d_m) / 2. The scene samples a whole
   // number of times per ball pass, which favours whole-sample lags; the
   // rigid-ring test (tests/coupling) checks the same estimate with sampling
@@ -134,7 +134,7 @@ TEST(BearingScene, RunsEndToEndAndTheInterfaceSeesTheBallPass)
   EXPECT_EQ(again.output.find("building it"), std::string::npos) << again.output;
 
   // The ring's interface basis set by the scene (the study of D_max against
-  // n_cc, README): a model of its own, built on first use into its own file,
+  // n_cc, docs/bearing.md): a model of its own, built on first use into its own file,
   // with n_cc + m coordinates; the configuration's model stays, and compare
   // resolves the same file and the same reduction parameters.
   const std::string basis = " --set 'Model/Characteristic constraint modes=20'";
@@ -294,7 +294,7 @@ TEST(BearingScene, AFlexibleHousingTakesItsShareAndAStiffOneIsTheRigidHousing)
     {
       EXPECT_GT(row.at("full_max_u_r_m"), 0.0);
       // 30 interface modes on the 72 x 4 bore grid under the ring's sharp
-      // pressure: measured 0.55-0.58 (the truncation the README describes);
+      // pressure: measured 0.55-0.58 (the truncation docs/bearing.md describes);
       // with the pressure's sign wrong ~2.
       EXPECT_LT(row.at("reduced_u_r_error"), 0.8);
       // With its residual flexibility of the pressure (what the run adds in
@@ -326,7 +326,7 @@ TEST(BearingScene, AHalfSpaceAtTheInterfaceSpreadsThePressureAndMakesTheLayerAPe
   // layer (Interface/Local compliance = housing), without the ring's residual
   // flexibility (the next test) to see the half-space alone: the pressure under the balls
   // spreads, and once the layer is far stiffer than the half-space its
-  // stiffness no longer matters (issue 8: ±100× the layer stiffness).
+  // stiffness does not matter (±100× the layer stiffness).
   const auto dir = scratch_directory("bearing_scene_local");
   write_text(dir / "ring.prm", small_ring);
   write_text(dir / "scene.prm", scene(dir));
@@ -337,7 +337,7 @@ TEST(BearingScene, AHalfSpaceAtTheInterfaceSpreadsThePressureAndMakesTheLayerAPe
   };
   // Bristles 100× softer than the scene's (k_t = 1e13 Pa/m): with the stiff
   // ones D_max on this coarse ring moves by ±2 % over displacement
-  // tolerances 1e-11…1e-13 m (README; ±7 % between two builds' roundings
+  // tolerances 1e-11…1e-13 m (docs/bearing.md; ±7 % between two builds' roundings
   // with the linearised in-step law), which would hide what is checked here;
   // with these two such builds agreed to 0.05 %.
   const auto run = [&](const std::string &name, const std::string &options) {
@@ -363,7 +363,7 @@ TEST(BearingScene, AHalfSpaceAtTheInterfaceSpreadsThePressureAndMakesTheLayerAPe
   const auto layer  = run("layer", "");
   const auto local  = run("local", "--set 'Interface/Local compliance=housing'");
   const auto stiff  = run("stiff", "--set 'Interface/Local compliance=housing' --set 'Interface/Normal stiffness=1e17'");
-  // The paper's scene loosens Newton to 0.5 with the half-space (README).
+  // The paper's scene loosens Newton to 0.5 with the half-space (docs/bearing.md).
   const auto loose = run("loose", "--set 'Interface/Local compliance=housing' --set 'Integrator/Newton tolerance=0.5'");
   // The linearised in-step bristle law still runs, and the summary says which law a run used.
   const auto linearised = run("linearised", "--set 'Interface/Local compliance=housing' "
@@ -395,7 +395,7 @@ TEST(BearingScene, AHalfSpaceAtTheInterfaceSpreadsThePressureAndMakesTheLayerAPe
   EXPECT_NEAR(stiff.risk_max / local.risk_max, 1.0, 0.02);
   // Newton stopped at 0.5 instead of 0.1 of the error test's tolerance, in
   // fewer steps. With the layer alone that let pressure creep onto the
-  // unloaded lower half (its peak there 1.2 → 6.5 MPa, README); here it stays
+  // unloaded lower half (its peak there 1.2 → 6.5 MPa, docs/bearing.md); here it stays
   // (measured +0.1 %; bound 1.5×), and the peak and D_max move by 0.0 % and
   // -0.1 % (bounds 3 % and 2 %).
   EXPECT_NEAR(loose.peak_pressure / local.peak_pressure, 1.0, 0.03);

@@ -70,7 +70,7 @@ TEST(Cli, SmallConcentratedRunWritesResultsAndSummary)
                                 "tangential_force_amplitude_N", "dissipated_energy_per_cycle_J",
                                 "loop_error_vs_mindlin"})
     EXPECT_NE(summary.find("\"" + key + "\""), std::string::npos) << key;
-  // Hertz on a 32^2 grid: contact radius 752.8 um within 5 % (REFERENCES.md §1.2).
+  // Hertz on a 32^2 grid: contact radius 752.8 um within 5 % (docs/references.md §1.2).
   EXPECT_NEAR(summary_number(summary, "contact_radius_m") / 752.77e-6, 1.0, 0.05);
   EXPECT_EQ(summary_number(summary, "cycles"), 3);
   const auto time = output::ResultsFile::read_dataset((output / "results.h5").string(), "/series/time");

@@ -31,7 +31,7 @@ TEST(TractionModels, ExactModelFollowsMindlinInTheScene)
                                   (directory / "out").string() + " --no-plots -q");
   ASSERT_EQ(result.exit_code, 0) << result.output;
   const std::string summary = test_files::read_text(directory / "out" / "summary.json");
-  // Issue 5: the exact loop within 1 % of mu P of Mindlin–Deresiewicz at every
+  // Required: the exact loop within 1 % of mu P of Mindlin–Deresiewicz at every
   // point of the cycle (measured 3e-4 on 64^2 with 40 steps), energy within 2 %.
   EXPECT_LT(summary_number(summary, "loop_error_vs_mindlin"), 0.01);
   EXPECT_NEAR(summary_number(summary, "dissipated_energy_per_cycle_J") /
@@ -70,7 +70,7 @@ TEST(TractionModels, CompareTractionReportsEveryModelAgainstExact)
   EXPECT_GT(rows["bristle"][3], 30.0);
   EXPECT_GT(rows["elastoplastic bristle"][3], 30.0);
   // The exponential bristle's loop is the farther from exact (8.5 % vs 2.3 %
-  // of mu P on the paper case) and dissipates several times more (README).
+  // of mu P on the paper case) and dissipates several times more (docs/concentrated.md).
   EXPECT_GT(rows["bristle"][4], rows["elastoplastic bristle"][4]);
   EXPECT_GT(rows["bristle"][6], 1.0);
   for (const auto &model : {"bristle", "elastoplastic bristle", "exact"})

@@ -67,7 +67,7 @@ TEST(FeCommand, ShrinkFitPressureMatchesLame)
   const std::string summary = read_text(dir / "out" / "summary.json");
   const double      p_fe    = summary_number(summary, "interface_pressure_Pa");
   std::printf("interface pressure %.6e Pa, Lamé %.6e Pa, error %.2e\n", p_fe, p, std::abs(p_fe / p - 1));
-  EXPECT_NEAR(p_fe, p, 0.01 * p); // the 1 %
+  EXPECT_NEAR(p_fe, p, 0.01 * p); // 1 % required
 
   // Layout: 9 + 9 line points and a 3 × 2 grid, one static snapshot. (The
   // grid's centres avoid the cell faces, where the stress jumps and the

@@ -1,6 +1,6 @@
 // `fretsim reduce`: a small grooved ring reduced from the command line; the
 // model file holds the matrices and operators of the stated sizes, and the
-// reduced model meets issue 7's 0.5 % on the lowest 10 free frequencies
+// reduced model meets the required 0.5 % on the lowest 10 free frequencies
 // against the full FE solve the command runs itself; `--study` writes a table
 // whose frequency error falls as n_cc grows (nested bases, Rayleigh–Ritz:
 // min-max principle); the raceway ball operator is stored for the default
@@ -51,7 +51,7 @@ TEST(ReduceCommand, WritesAModelThatMeetsTheFrequencyTarget)
 
   const double error = number_after(result.output, "max frequency error: ");
   EXPECT_GE(error, 0.0);
-  EXPECT_LT(error, 5e-3); // issue 7: < 0.5 % on the lowest 10
+  EXPECT_LT(error, 5e-3); // required: < 0.5 % on the lowest 10
 
   std::vector<std::size_t> dims;
   const auto               k = ResultsFile::read_dataset((dir / "model.h5").string(), "/matrices/stiffness", &dims);
@@ -86,7 +86,7 @@ TEST(ReduceCommand, AHousingHeldAtItsOutsideIsReducedOnItsBore)
   // mode kept (n_cc = 0) Craig–Bampton reproduces any static load on the bore
   // exactly, so the squeeze error is round-off only if the clamp is the same
   // support in the full and the reduced model; the lowest 10 frequencies of
-  // the clamped housing meet issue 7's 0.5 %.
+  // the clamped housing meet the required 0.5 %.
   const auto dir     = scratch_directory("reduce-housing");
   const auto housing = [](const std::string &reduction) {
     return "set Scene = ring_housing\nsubsection Mesh\n  set Bodies = housing\nend\n"

@@ -1,7 +1,7 @@
 // The paper's §4 case end to end through the Dang Van stage (paper Fig. 11:
 // "maximum risk around 0.8", at the contact edge on the surface).
 //
-// Convergence study (README, "Dang Van risk on the paper case"): on the shipped
+// Convergence study (docs/concentrated.md, "D_max against the numerics"): on the shipped
 // discretisation (128 x 128 cells, 200 steps per cycle) D_max = 0.635. It rises
 // with the grid because the maximum sits exactly on the contact edge, where
 // pressure and traction have square-root profiles that cell-centred sampling

@@ -46,7 +46,7 @@ namespace
 TEST(SceneStresses, FrictionlessHertzOnTheAxis)
 {
   // Analytic Hertz pressure, mu = 0: the stresses are Hertz's. Paper case,
-  // a = 752.77 um, p0 = 1053.25 MPa (REFERENCES.md §1.2).
+  // a = 752.77 um, p0 = 1053.25 MPa (docs/references.md §1.2).
   const double a = 752.77e-6, p0 = 1053.25e6, nu = 0.3;
   const Snapshot s = run_scene("stress-hertz", {{"Cells x", "64"}, {"Cells y", "64"}, {"Friction coefficient", "0"},
                                                 {"Pressure model", "hertz"},
@@ -67,7 +67,7 @@ TEST(SceneStresses, FrictionlessHertzOnTheAxis)
   for (std::size_t layer = 0; layer < s.z.size(); ++layer)
     {
       const double zeta = s.z[layer] / a;
-      const double sigma_z = -p0 / (1 + zeta * zeta); // DESIGN.md §7
+      const double sigma_z = -p0 / (1 + zeta * zeta); // docs/theory.md §7
       const double sigma_r =
         zeta == 0 ? -p0 * (1 + 2 * nu) / 2 :
                     -p0 * ((1 + nu) * (1 - zeta * std::atan(1 / zeta)) - 0.5 / (1 + zeta * zeta));
@@ -115,7 +115,7 @@ TEST(SceneStresses, EvaluatorsAgreeInTheScene)
 {
   // The same run with each evaluator: DC-FFT equals direct summation to
   // round-off and MLMI is within its default accuracy (1e-3 p0,
-  // the target).
+  // the required accuracy).
   const std::vector<std::pair<std::string, std::string>> common{{"Depth layers", "0, 2e-4"}, {"Cycles", "1"}};
   auto with = [&](const std::string &evaluator) {
     auto edits = common;

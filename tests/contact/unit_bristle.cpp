@@ -1,4 +1,4 @@
-// The bristle traction model (paper eq. 4, DESIGN.md §2.3): implicit Euler
+// The bristle traction model (paper eq. 4, docs/theory.md §2.3): implicit Euler
 // accuracy, boundedness and extreme cases.
 #include <fretsim/contact/bristle.h>
 #include <fretsim/contact/fretting_loop.h>
@@ -22,7 +22,7 @@ namespace
     double      contact_radius;
   };
 
-  /// Hertz pressure sampled at cell centres (REFERENCES.md §1.1).
+  /// Hertz pressure sampled at cell centres (docs/references.md §1.1).
   HertzOnGrid hertz_on_grid(int cells)
   {
     const double a  = std::cbrt(3.0 * load * radius / (4.0 * steel.contact_modulus()));
@@ -79,7 +79,7 @@ TEST(Bristle, ImplicitEulerConvergesAtFirstOrderToTheExponentialLaw)
 
 TEST(Bristle, MindlinCalibrationGivesMindlinInitialStiffness)
 {
-  // k = 8 G*/(pi a): k * pi a^2 = 8 G* a (DESIGN.md §2.3). On the grid the
+  // k = 8 G*/(pi a): k * pi a^2 = 8 G* a (docs/theory.md §2.3). On the grid the
   // loaded area is the cell count, so allow the grid's area error (0.5 % at 128^2).
   const auto   h = hertz_on_grid(128);
   const double k = BristleTraction::mindlin_stiffness(steel.tangential_modulus(), h.contact_radius);
@@ -119,7 +119,7 @@ TEST(Bristle, PressureDropClampsToCoulomb)
   EXPECT_EQ(bristles.traction_x()[0], 0.0);
 }
 
-// Stiff and extreme cases (issue: bristle stiffness 1e6 x calibrated, mu = 0
+// Stiff and extreme cases (required: bristle stiffness 1e6 x calibrated, mu = 0
 // and 1.5, amplitude 1e-9 m and 100 um, time steps from T/1e4 to T/4):
 // traction finite and |tau| <= mu p everywhere.
 struct ExtremeCase

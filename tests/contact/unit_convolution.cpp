@@ -1,5 +1,5 @@
 // Love's rectangle influence coefficient and the DC-FFT convolution against
-// shared/REFERENCES.md §4.1 and §6.2-6.3.
+// docs/references.md §4.1 and §6.2-6.3.
 #include <fretsim/contact/convolution.h>
 #include <fretsim/contact/hertz.h>
 
@@ -60,7 +60,7 @@ namespace
     return field;
   }
 
-  // One body with G = 1, nu = 0.3: u_z = (1 - nu)/(2 pi G) [F1] (REFERENCES.md
+  // One body with G = 1, nu = 0.3: u_z = (1 - nu)/(2 pi G) [F1] (docs/references.md
   // §4.1), i.e. 1/(pi E*) with E* = 2G/(1 - nu).
   const double check_modulus = 2.0 * 1.0 / (1.0 - 0.3);
 } // namespace
@@ -86,7 +86,7 @@ TEST(SurfaceGrid, CentredGridAndIntegral)
 
 TEST(Influence, ReferenceCheckNumbers)
 {
-  // REFERENCES.md §4.1 table, u_z(p) column, patch [-0.5,0.5] x [-0.3,0.3],
+  // docs/references.md §4.1 table, u_z(p) column, patch [-0.5,0.5] x [-0.3,0.3],
   // quoted to 10 digits (verified against dblquad to 1e-10).
   struct Row
   {
@@ -99,7 +99,7 @@ TEST(Influence, ReferenceCheckNumbers)
 
 TEST(Influence, SelfInfluenceOfSquareCell)
 {
-  // [F1] = 4 h ln(1 + sqrt 2) at the centre of a square cell (REFERENCES.md
+  // [F1] = 4 h ln(1 + sqrt 2) at the centre of a square cell (docs/references.md
   // §4.1), to round-off, at any scale.
   for (const double h : {1e-6, 1.0, 1e3})
     {
@@ -161,7 +161,7 @@ TEST(SurfaceConvolution, DirectSumIsTheDefinition)
 
 TEST(SurfaceConvolution, FftEqualsDirectOnNonSquareGrid)
 {
-  // DC-FFT is linear convolution exactly (Liu, Wang & Liu 2000; REFERENCES.md
+  // DC-FFT is linear convolution exactly (Liu, Wang & Liu 2000; docs/references.md
   // §6.2-6.3 found 4e-16): 1e-12 relative leaves room for FFT round-off.
   // Both evaluations, with a kernel even in nothing (complex row spectra)
   // and one even in x only, like Love's (real row spectra, the hot path of
@@ -352,7 +352,7 @@ TEST(SurfaceConvolution, RowPairKernelMatchesTheDenseSumOnTheClosedCircumference
 
 TEST(SurfaceConvolution, HertzDisplacementDiscretisationCheck)
 {
-  // REFERENCES.md §6.3: Hertz pressure at cell centres on [-1.5a, 1.5a]^2,
+  // docs/references.md §6.3: Hertz pressure at cell centres on [-1.5a, 1.5a]^2,
   // combined u_z by the §4.1 coefficients vs Johnson's exact u_z. The table
   // is quoted to 3 digits; 0.5 % relative is half a unit of the last digit
   // at the smallest leading digit (1.26).

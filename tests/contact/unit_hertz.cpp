@@ -1,4 +1,4 @@
-// Closed-form Hertz solutions against shared/REFERENCES.md §1.
+// Closed-form Hertz solutions against docs/references.md §1.
 #include <fretsim/contact/hertz.h>
 
 #include <gtest/gtest.h>
@@ -9,7 +9,7 @@ using namespace fretsim::contact;
 
 namespace
 {
-  // Two steel bodies, E = 200 GPa, nu = 0.3 (REFERENCES.md §1.2).
+  // Two steel bodies, E = 200 GPa, nu = 0.3 (docs/references.md §1.2).
   const double steel_contact_modulus = 200e9 / (2.0 * (1.0 - 0.3 * 0.3));
 
   /// B(m)/((1-m) D(m)) by the midpoint rule on [0, pi/2]. The integrands are
@@ -34,13 +34,13 @@ namespace
 TEST(HertzCircular, PaperCase)
 {
   const auto hertz = HertzCircular::solve(1250.0, 0.05, steel_contact_modulus);
-  // REFERENCES.md §1.2: E* = 109.89 GPa, a = 752.8 um, p0 = 1053.2 MPa,
+  // docs/references.md §1.2: E* = 109.89 GPa, a = 752.8 um, p0 = 1053.2 MPa,
   // delta = 11.33 um; tolerances are half a unit in the last quoted digit.
   EXPECT_NEAR(steel_contact_modulus, 109.89e9, 0.005e9);
   EXPECT_NEAR(hertz.contact_radius, 752.8e-6, 0.05e-6);
   EXPECT_NEAR(hertz.peak_pressure, 1053.2e6, 0.05e6);
   EXPECT_NEAR(hertz.approach, 11.33e-6, 0.005e-6);
-  // Identities of REFERENCES.md §1.1, exact up to round-off.
+  // Identities of docs/references.md §1.1, exact up to round-off.
   const double a = hertz.contact_radius;
   EXPECT_NEAR(hertz.peak_pressure, 3.0 * 1250.0 / (2.0 * M_PI * a * a), 1e-12 * hertz.peak_pressure);
   EXPECT_NEAR(hertz.approach, a * a / 0.05, 1e-12 * hertz.approach);
@@ -81,7 +81,7 @@ TEST(HertzCircular, NormalDisplacementSatisfiesTheContactCondition)
       << "r/a = " << r / a;
   for (const double r : {1.0001 * a, 1.2 * a, 3.0 * a})
     EXPECT_GT(r * r / (2.0 * R) - hertz.approach + hertz.normal_displacement(r, 0.0), 0.0) << "r/a = " << r / a;
-  // Continuity at r = a of the two branches of REFERENCES.md §1.1, to
+  // Continuity at r = a of the two branches of docs/references.md §1.1, to
   // first order in the step.
   const double inside = hertz.normal_displacement(a * (1.0 - 1e-9), 0.0);
   const double outside = hertz.normal_displacement(a * (1.0 + 1e-9), 0.0);
@@ -106,7 +106,7 @@ TEST(HertzCircular, ZeroLoadAndInvalidInput)
 
 TEST(HertzElliptical, EllipticityMatchesExactTable)
 {
-  // REFERENCES.md §1.3 table, "k exact", "E exact" and "F = K exact" columns,
+  // docs/references.md §1.3 table, "k exact", "E exact" and "F = K exact" columns,
   // quoted to 5 decimals: tolerance half a unit of the last digit.
   struct Row
   {
@@ -160,7 +160,7 @@ TEST(HertzElliptical, NearlyCircularRootIsAccurate)
 
 TEST(HertzElliptical, DeepGrooveBallBearingExample)
 {
-  // REFERENCES.md §1.3 worked example, "exact" row: ball d = 7.938 mm,
+  // docs/references.md §1.3 worked example, "exact" row: ball d = 7.938 mm,
   // dm = 38.5 mm, f_i = 0.52, W = 1000 N, steel. The row is quoted to 5-6
   // digits; 1e-3 relative as asked for.
   const double d = 7.938e-3, dm = 38.5e-3, f = 0.52, W = 1000.0;
@@ -174,7 +174,7 @@ TEST(HertzElliptical, DeepGrooveBallBearingExample)
   EXPECT_NEAR(hertz.approach / 11.831e-6, 1.0, 1e-3);
   EXPECT_NEAR(hertz.peak_pressure / 2514.6e6, 1.0, 1e-3);
 
-  // Johnson's equivalent form (REFERENCES.md §1.3): delta = 3 W K/(2 pi a E*)
+  // Johnson's equivalent form (docs/references.md §1.3): delta = 3 W K/(2 pi a E*)
   // and a^3 = 3 W (K - E)/(2 pi E* A e^2) with A = 1/(2 Ry), a the major
   // semi-axis; the two forms are algebraically identical (round-off).
   const double a = hertz.semi_axis_y, k = a / hertz.semi_axis_x;

@@ -1,4 +1,4 @@
-// Mindlin–Deresiewicz loop against the check values of shared/REFERENCES.md §2.
+// Mindlin–Deresiewicz loop against the check values of docs/references.md §2.
 #include <fretsim/contact/material.h>
 #include <fretsim/contact/mindlin.h>
 
@@ -10,7 +10,7 @@ using namespace fretsim::contact;
 
 namespace
 {
-  // Paper §4 case, two steel bodies (REFERENCES.md §2.3, "two elastic bodies" row).
+  // Paper §4 case, two steel bodies (docs/references.md §2.3, "two elastic bodies" row).
   const double mu = 0.53, load = 1250.0, radius = 752.7676e-6;
   const MaterialPair steel{{200e9, 0.3}, {200e9, 0.3}};
   MindlinLoop paper_loop() { return MindlinLoop(mu, load, radius, steel.tangential_modulus()); }
@@ -34,7 +34,7 @@ namespace
 TEST(Mindlin, PaperCaseMatchesReferenceTable)
 {
   const auto loop = paper_loop();
-  // delta_t = 3 mu P (2 - nu) / (8 G a) = 7.294 um (REFERENCES.md §2.3), 4 digits given.
+  // delta_t = 3 mu P (2 - nu) / (8 G a) = 7.294 um (docs/references.md §2.3), 4 digits given.
   EXPECT_NEAR(loop.gross_slip_displacement(), 7.294e-6, 0.001e-6);
   const double amplitude = 2.241e-6;
   // Q* = 280.5 N, Q*/(mu P) = 0.4234 (table, 4 digits).
@@ -61,7 +61,7 @@ TEST(Mindlin, ClosedFormEnergyEqualsLoopArea)
 TEST(Mindlin, FrettingRegimeIndicatorsAtTransition)
 {
   // Fouvry's energy ratio A = W/(4 delta* Q*) is exactly 0.2 at the gross-slip
-  // transition, independent of mu, P and material (REFERENCES.md §2.2).
+  // transition, independent of mu, P and material (docs/references.md §2.2).
   const auto   loop = paper_loop();
   const double dt   = loop.gross_slip_displacement();
   EXPECT_NEAR(loop.dissipated_energy(dt) / (4.0 * dt * loop.force_amplitude(dt)), 0.2, 1e-12);

@@ -1,5 +1,5 @@
 // Generic MultiLevel Multi-Integration against direct summation
-// (shared/REFERENCES.md §6.1; issue 3, "MLMI against direct summation").
+// (docs/references.md §6.1), below 1e-3 at default settings.
 #include <fretsim/contact/multilevel_summation.h>
 
 #include <gtest/gtest.h>
@@ -21,7 +21,7 @@ namespace
     return Y > 0.0 ? std::log(Y + rho) : std::log(X * X / (rho - Y));
   }
 
-  /// Love's corner function X ln(Y + rho) + Y ln(X + rho) (REFERENCES.md §4.1).
+  /// Love's corner function X ln(Y + rho) + Y ln(X + rho) (docs/references.md §4.1).
   double love_corner(double X, double Y) { return X * log_y_plus_rho(X, Y) + Y * log_y_plus_rho(Y, X); }
 
   /// Boussinesq normal displacement at (x, y) of unit pressure on the cell
@@ -146,10 +146,10 @@ TEST(MultilevelSummation, BoussinesqDeflectionOfHertzPressureAtDefaultSettings)
       std::printf("Boussinesq/Hertz %d^2: %d coarse levels, p = %d, m = %d, error %.2e\n", n, mlmi.levels(),
                   mlmi.interpolation_order(), mlmi.correction_width(0), error);
       EXPECT_GE(mlmi.levels(), 2); // a genuinely multilevel run
-      // Issue 3: MLMI against direct summation below 1e-3 at default settings.
+      // Required: MLMI against direct summation below 1e-3 at default settings.
       EXPECT_LT(error, 1e-3) << n;
       // The discretisation error of the deflection itself is ~1e-3 at 64^2
-      // (REFERENCES.md §6.3); the default keeps MLMI well below it (measured
+      // (docs/references.md §6.3); the default keeps MLMI well below it (measured
       // ~1e-5).
       EXPECT_LT(error, 1e-4) << n;
     }
@@ -220,7 +220,7 @@ TEST(MultilevelSummation, SmoothInverseCubeAndInverseDistanceKernels)
       const Field  exact = direct_sum(grid, kernel, p);
       const double error = mlmi_error(grid, kernel, p, exact, MultilevelSettings{});
       std::printf("%s kernel, 96^2: error %.2e\n", name, error);
-      // Issue 3 tolerance, max over the field normalised by max |w|.
+      // Required tolerance, max over the field normalised by max |w|.
       EXPECT_LT(error, 1e-3) << name;
     }
 }

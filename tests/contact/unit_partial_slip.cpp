@@ -275,7 +275,7 @@ TEST(PartialSlipOperator, KernelIsTheSumOfBothBodiesCerrutiCoefficients)
       // Even in the offset: the DC-FFT kernels have real transforms.
       EXPECT_NEAR(compliance.kernel_xy(-di, -dj), compliance.kernel_xy(di, dj), 1e-14 * compliance.kernel_xx(0, 0));
     }
-  // Self-compliance of a square cell, per body (REFERENCES §4.1):
+  // Self-compliance of a square cell, per body (docs/references.md §4.1):
   // u_x = (1/(2 pi G)) ((1-nu) + 1) [F1]/2 ... with [F1] = 4h ln(1+sqrt 2) for
   // both terms at the centre: u_x = (2 - nu) 4h ln(1 + sqrt 2) / (4 pi G).
   const double h = grid.hx, f1 = 4.0 * h * std::log(1.0 + std::sqrt(2.0));

@@ -1,6 +1,6 @@
-// Uniform-rectangle kernels against shared/REFERENCES.md §4.1 (surface
+// Uniform-rectangle kernels against docs/references.md §4.1 (surface
 // displacements) and §4.2 (subsurface stresses), against adaptive quadrature of
-// the Boussinesq and Cerruti point-force solutions of REFERENCES §3.2, and
+// the Boussinesq and Cerruti point-force solutions of docs/references.md §3.2, and
 // against identities they must satisfy (surface limits, parity, reflection,
 // reciprocity, equilibrium).
 #include <fretsim/contact/rectangle_kernels.h>
@@ -20,7 +20,7 @@ namespace
 
   Stress6 as_array(const StressTensor &s) { return {s.xx, s.yy, s.zz, s.yz, s.xz, s.xy}; }
 
-  // ---- point-force kernels, REFERENCES §3.2 (unit force at the origin) -------------
+  // ---- point-force kernels, docs/references.md §3.2 (unit force at the origin) -------------
 
   /// Boussinesq: unit normal force into the body, converted from (r, theta, z).
   Stress6 boussinesq(double x, double y, double z, double nu)
@@ -134,11 +134,11 @@ namespace
   const double nu = 0.3;
 } // namespace
 
-// ---- REFERENCES §4.2 test values --------------------------------------------------
+// ---- docs/references.md §4.2 test values --------------------------------------------------
 
 TEST(RectangleKernels, ReferenceTestValues)
 {
-  // REFERENCES §4.2: unit load, nu = 0.3, a = 0.5, b = 0.3, values given to 7
+  // docs/references.md §4.2: unit load, nu = 0.3, a = 0.5, b = 0.3, values given to 7
   // decimals in the order [sx, sy, sz, txy, tyz, txz]: tolerance half a unit
   // in the last digit plus round-off.
   struct Row
@@ -211,7 +211,7 @@ TEST(RectangleKernels, AgreeWithQuadratureOfPointForceKernels)
 TEST(RectangleKernels, SurfaceValuesInsideAndOutsideThePatch)
 {
   const double a = 0.5, b = 0.3;
-  // Equilibrium with the applied traction (REFERENCES §0): sigma_zz = -p and
+  // Equilibrium with the applied traction (docs/references.md §0): sigma_zz = -p and
   // sigma_xz = -q_x inside, 0 outside; no normal stress from shear and no
   // shear stress from pressure. Exact up to round-off of the atan sums.
   const double inside[][2]  = {{0.0, 0.0}, {0.3, -0.2}, {-0.45, 0.25}};
@@ -305,7 +305,7 @@ TEST(RectangleKernels, ParityReflectionAndReciprocity)
       EXPECT_NEAR(qy.yz, qx.xz, 1e-13);
       EXPECT_NEAR(qy.xz, qx.yz, 1e-13);
       EXPECT_NEAR(qy.xy, qx.xy, 1e-13);
-      // Reciprocity (REFERENCES §3.2): Cerruti sigma_zz equals Boussinesq
+      // Reciprocity (docs/references.md §3.2): Cerruti sigma_zz equals Boussinesq
       // tau_xz, both -3 x z^2 / (2 pi rho^5); so the rectangle kernels agree.
       const RectangleStresses sp = rectangle_stresses(p[0], p[1], z, a, b, nu);
       EXPECT_NEAR(sp.shear_x.zz, sp.pressure.xz, 1e-15);
@@ -370,11 +370,11 @@ TEST(RectangleKernels, CellTableMatchesPointKernels)
     }
 }
 
-// ---- surface displacements, REFERENCES §4.1 ------------------------------------------
+// ---- surface displacements, docs/references.md §4.1 ------------------------------------------
 
 TEST(RectangleKernels, SurfaceDisplacementCheckNumbers)
 {
-  // REFERENCES §4.1 table: G = 1, nu = 0.3, patch [-0.5, 0.5] x [-0.3, 0.3];
+  // docs/references.md §4.1 table: G = 1, nu = 0.3, patch [-0.5, 0.5] x [-0.3, 0.3];
   // 10 decimals given, tolerance one unit in the last place.
   struct Row
   {
@@ -392,7 +392,7 @@ TEST(RectangleKernels, SurfaceDisplacementCheckNumbers)
       EXPECT_NEAR(uq.y, r.uy_q, 1e-10);
       EXPECT_NEAR(uq.z, r.uz_q, 1e-10);
       // Betti: the tangential displacement from pressure is minus the normal
-      // displacement from shear (REFERENCES §4.1, reciprocal coupling).
+      // displacement from shear (docs/references.md §4.1, reciprocal coupling).
       EXPECT_NEAR(up.x, -uq.z, 1e-15);
       // Shear y is the reflection of shear x.
       const SurfaceDisplacement uqy = rectangle_displacement_shear_y(r.y, r.x, 0.3, 0.5, 1.0, nu);
@@ -401,7 +401,7 @@ TEST(RectangleKernels, SurfaceDisplacementCheckNumbers)
       EXPECT_NEAR(uqy.z, uq.z, 1e-15);
     }
   // Self-influence at the centre of a square cell of side h:
-  // [F1] = 4 h ln(1 + sqrt 2) = 3.5254943481 h (REFERENCES §4.1), 11 digits.
+  // [F1] = 4 h ln(1 + sqrt 2) = 3.5254943481 h (docs/references.md §4.1), 11 digits.
   const double h = 2e-4, G = 80e9;
   EXPECT_NEAR(rectangle_displacement_pressure(0.0, 0.0, h / 2, h / 2, G, nu).z / ((1 - nu) / (2 * M_PI * G) * h),
               3.5254943481, 1e-10);
@@ -409,7 +409,7 @@ TEST(RectangleKernels, SurfaceDisplacementCheckNumbers)
 
 TEST(RectangleKernels, SurfaceDisplacementsAgreeWithQuadrature)
 {
-  // The z = 0 Boussinesq and Cerruti displacements of REFERENCES §3.2 (G = 1)
+  // The z = 0 Boussinesq and Cerruti displacements of docs/references.md §3.2 (G = 1)
   // integrated adaptively over the patch at points off the patch (the 1/rho
   // singularity inside is integrable but slow for this quadrature). 1e-10.
   const double a = 0.5, b = 0.3;

@@ -1,4 +1,4 @@
-// The bristle fretting loop on the paper §4 case (REFERENCES.md §1.2, §2.3):
+// The bristle fretting loop on the paper §4 case (docs/references.md §1.2, §2.3):
 // against an independent semi-analytic bristle solution (tight), against the
 // Mindlin–Deresiewicz loop (the model difference, measured and bounded), and
 // the gross-slip limit.
@@ -108,7 +108,7 @@ TEST(BristleLoop, PaperCaseAgainstMindlinDeresiewicz)
   const auto   run     = run_grid_loop(paper_amplitude, 128, 200, 8);
   const double mindlin_amplitude = MindlinLoop(mu, load, contact_radius, steel.tangential_modulus())
                                      .force_amplitude(paper_amplitude);
-  // Mindlin: Q* = 280.5 N (REFERENCES.md §2.3). The exponential bristle law
+  // Mindlin: Q* = 280.5 N (docs/references.md §2.3). The exponential bristle law
   // slips a little everywhere, so its amplitude is lower: measured 272.6 N with
   // the semi-analytic solution, i.e. 2.8 % below; allow 4 %.
   EXPECT_NEAR(run.metrics.force_amplitude / mindlin_amplitude, 0.972, 0.012);
@@ -150,7 +150,7 @@ TEST(BristleLoop, DissipatedEnergyMatchesTheBristleLaw)
   for (std::size_t i = begin + 1; i < run.displacement.size(); ++i)
     work += 0.5 * (reference[i] + reference[i - 1]) * (run.displacement[i] - run.displacement[i - 1]);
   EXPECT_NEAR(run.metrics.dissipated_energy / std::abs(work), 1.0, 1e-2);
-  // And it exceeds Mindlin's 7.64e-5 J (REFERENCES.md §2.3) several times over:
+  // And it exceeds Mindlin's 7.64e-5 J (docs/references.md §2.3) several times over:
   // the exponential law dissipates in the whole contact, not only the annulus.
   EXPECT_GT(run.metrics.dissipated_energy, 3.0 * 7.64e-5);
 }

@@ -1,4 +1,4 @@
-// Dang Van criterion against theory (DESIGN.md §2.6, REFERENCES.md §5): the
+// Dang Van criterion against theory (docs/theory.md §2.6, docs/references.md §5): the
 // paper's running-mean centre converges at first order in the number of
 // cycles, and a sampled non-proportional cycle converges to the continuous
 // maximum within the second-order sampling bound.
@@ -13,7 +13,7 @@ using namespace fretsim::contact;
 
 namespace
 {
-  const double           f_1 = 690e6, t_1 = 428e6; // paper material, REFERENCES §5.1
+  const double           f_1 = 690e6, t_1 = 428e6; // paper material, docs/references.md §5.1
   const DangVanConstants paper = DangVanConstants::from_fatigue_limits(f_1, t_1);
 
   DangVanSettings settings(ResidualStressCentre centre, int steps_per_cycle)
@@ -41,7 +41,7 @@ namespace
 TEST(dang_van_verification, RunningMeanConvergesAtFirstOrderInCycles)
 {
   // sigma_xx = f_-1 sin(wt): D_max = 1 - m_K, m_K the running mean at the
-  // last tension peak, ~ 1/(2 pi (K - 3/4)) (REFERENCES §5.3 limit D = 1).
+  // last tension peak, ~ 1/(2 pi (K - 3/4)) (docs/references.md §5.3 limit D = 1).
   // Over K = 8..256 the continuous model's slope is -1.03; assert -1 +- 0.1.
   const int           steps_per_cycle = 64;
   std::vector<double> cycles, error;

@@ -1,7 +1,7 @@
 // MLMI subsurface stresses against direct summation of the same rectangle
-// kernels (issue 3: "MLMI and FFT against direct summation: relative error
-// (max over the field, normalised by p0) below 1e-3 at their default settings,
-// and convergence of the MLMI error with interpolation order").
+// kernels: MLMI and FFT against direct summation, relative error (max over
+// the field, normalised by p0) below 1e-3 at their default settings, and
+// convergence of the MLMI error with interpolation order.
 #include <fretsim/contact/multilevel_summation.h>
 #include <fretsim/contact/rectangle_kernels.h>
 #include <fretsim/contact/subsurface_stress.h>
@@ -21,7 +21,7 @@ using namespace fretsim::contact;
 
 namespace
 {
-  // Paper case (REFERENCES.md §1.2): a = 752.8 um, p0 = 1053.2 MPa, nu = 0.3.
+  // Paper case (docs/references.md §1.2): a = 752.8 um, p0 = 1053.2 MPa, nu = 0.3.
   const double contact_radius = 752.8e-6, peak_pressure = 1053.2e6, poisson = 0.3;
 
   /// nx × ny cells on [-1.5a, 1.5a] x [-1.5a * aspect, ...].
@@ -97,7 +97,7 @@ namespace
 TEST(MlmiStress, SlidingHertzAgainstDirectSummationAtDefaultSettings)
 {
   // Hertz pressure with full-slip shear q_x = mu p (mu = 0.5, the larger
-  // friction coefficient of issue 3), layers on the surface, just under it
+  // friction coefficient of the requirement), layers on the surface, just under it
   // and near the subsurface maximum.
   const std::vector<double> depths{0.0, 0.1 * contact_radius, 0.5 * contact_radius};
   for (const int n : {64, 128})
@@ -113,7 +113,7 @@ TEST(MlmiStress, SlidingHertzAgainstDirectSummationAtDefaultSettings)
           const double error = layer_error(mlmi, direct, layer);
           std::printf("%d^2, z = %.1fa: max |MLMI - direct| / p0 = %.2e\n", n, depths[layer] / contact_radius,
                       error);
-          // Issue 3 tolerance for MLMI at its default settings.
+          // Required tolerance for MLMI at its default settings.
           EXPECT_LT(error, 1e-3) << n << " layer " << layer;
           // Kept a decade below (measured <= 1.3e-4): the default width
           // 2p - 2 holds the surface kernels' spike inside the window.
@@ -135,7 +135,7 @@ TEST(MlmiStress, AllThreeLoadsOnAnUnevenGrid)
   const StressField         mlmi   = evaluate("mlmi", grid, depths, p, qx, qy);
   const double              error  = field_error(mlmi, direct);
   std::printf("90 x 61, three loads: max |MLMI - direct| / p0 = %.2e\n", error);
-  EXPECT_LT(error, 1e-3); // issue 3 tolerance
+  EXPECT_LT(error, 1e-3); // required tolerance
 }
 
 TEST(MlmiStress, ErrorConvergesWithInterpolationOrder)
@@ -168,7 +168,7 @@ TEST(MlmiStress, ErrorConvergesWithInterpolationOrder)
   for (std::size_t k = 1; k < at_width.size(); ++k)
     EXPECT_LT(at_width[k], at_width[k - 1]) << "order " << 2 * (k + 1);
   // Order 2 is not good enough at any practical width (Brandt & Lubrecht
-  // use p = 6); order 6 meets the issue-3 1e-3 by a wide margin.
+  // use p = 6); order 6 meets the required 1e-3 by a wide margin.
   EXPECT_GT(errors[0], 1e-3);
   EXPECT_LT(errors[2], 1e-4);
 }
@@ -219,7 +219,7 @@ TEST(MlmiStress, ShallowLayersGetTheWideCorrectionWindow)
 
   const double error_widened = field_error(widened, direct), error_narrow = field_error(unwidened, direct);
   std::printf("z = 0, requested width 6: %.2e p0 widened to 10, %.2e p0 kept at 6\n", error_widened, error_narrow);
-  EXPECT_LT(error_widened, 1e-3); // issue 3 tolerance
+  EXPECT_LT(error_widened, 1e-3); // required tolerance
   EXPECT_GT(error_narrow, 1e-2);  // measured 7e-2: the failure the rule prevents
 }
 

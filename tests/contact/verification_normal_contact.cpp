@@ -1,5 +1,5 @@
 // Numerical normal contact (Polonsky & Keer CG + DC-FFT) against Hertz,
-// shared/REFERENCES.md §1.1-1.3, with observed convergence rates.
+// docs/references.md §1.1-1.3, with observed convergence rates.
 #include <fretsim/contact/hertz.h>
 #include <fretsim/contact/normal_contact.h>
 
@@ -13,7 +13,7 @@ using namespace fretsim::contact;
 
 namespace
 {
-  // Paper case (REFERENCES.md §1.2): R = 50 mm, P = 1250 N, steel on steel.
+  // Paper case (docs/references.md §1.2): R = 50 mm, P = 1250 N, steel on steel.
   const double sphere_radius = 0.05, paper_load = 1250.0;
   const double steel_modulus = 200e9 / (2.0 * (1.0 - 0.3 * 0.3)); // E*
 
@@ -127,7 +127,7 @@ TEST(NormalContact, PressureErrorConvergesWithGridRefinement)
   // n = 32 ... 256 cells over [-1.5a, 1.5a]^2; rates are least-squares slopes
   // of log(error) vs log(h) over the seven grids.
   //
-  // Expected rates for piecewise-constant elements (REFERENCES.md §6.3 finds
+  // Expected rates for piecewise-constant elements (docs/references.md §6.3 finds
   // O(h^2) in the interior): the pressure has a square-root edge, so the
   // O(a/h) cells cut by the contact boundary carry errors O(p0 sqrt(h/a)).
   // Hence RMS over the grid ~ h^1, mean absolute ~ h^1.5, maximum ~ h^0.5,

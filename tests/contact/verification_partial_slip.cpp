@@ -1,6 +1,6 @@
-// The exact elastic partial-slip solver (DESIGN.md §2.4, partial_slip.h)
+// The exact elastic partial-slip solver (docs/theory.md §2.4, partial_slip.h)
 // against Cattaneo–Mindlin (monotonic Q), Mindlin–Deresiewicz (harmonic
-// shift) and the gross-slip limit, on the paper §4 contact (REFERENCES.md
+// shift) and the gross-slip limit, on the paper §4 contact (docs/references.md
 // §1.2, §2): steel on steel, R = 50 mm, P = 1250 N, mu = 0.53, grid +-1.5a.
 #include <fretsim/contact/fretting_loop.h>
 #include <fretsim/contact/material.h>
@@ -30,7 +30,7 @@ namespace
     double      grid_load = 0.0; ///< sum p A: the discrete P [N]
   };
 
-  /// Hertz pressure sampled at cell centres (REFERENCES.md §1.1).
+  /// Hertz pressure sampled at cell centres (docs/references.md §1.1).
   HertzOnGrid hertz_on_grid(int cells, const MaterialPair &materials = steel)
   {
     const double a  = std::cbrt(3.0 * load * radius / (4.0 * materials.contact_modulus()));
@@ -47,7 +47,7 @@ namespace
     return h;
   }
 
-  /// Cattaneo–Mindlin traction for monotonic Q (REFERENCES.md §2.1):
+  /// Cattaneo–Mindlin traction for monotonic Q (docs/references.md §2.1):
   /// q = mu (H_a - H_c), H_rho(r) = p0 (rho/a) sqrt(1 - r^2/rho^2).
   double cattaneo_traction(double r, double stick_radius)
   {

@@ -1,6 +1,6 @@
 // Subsurface stresses of the grid evaluators against closed forms:
-// frictionless Hertz on the axis (REFERENCES §1.1) and anywhere (Hamilton 1983,
-// REFERENCES §3.1), full-sliding Hertz (REFERENCES §3.2 surface forms and the
+// frictionless Hertz on the axis (docs/references.md §1.1) and anywhere (Hamilton 1983,
+// docs/references.md §3.1), full-sliding Hertz (docs/references.md §3.2 surface forms and the
 // §3.3 table), and DC-FFT against direct summation.
 #include <fretsim/contact/subsurface_stress.h>
 
@@ -19,7 +19,7 @@ using fretsim::reference::Stress;
 
 namespace
 {
-  // Paper case (REFERENCES §1.2): R = 50 mm, P = 1250 N, E = 200 GPa, nu = 0.3, both bodies steel.
+  // Paper case (docs/references.md §1.2): R = 50 mm, P = 1250 N, E = 200 GPa, nu = 0.3, both bodies steel.
   const double nu = 0.3, load = 1250.0, radius = 0.05, youngs = 200e9;
   const double contact_modulus = youngs / (2 * (1 - nu * nu));
   const double a  = std::cbrt(3 * load * radius / (4 * contact_modulus));
@@ -113,7 +113,7 @@ TEST(SubsurfaceStressHertz, AxisStressesAndMaximumShear)
       const double z = depths[k];
       const Stress s = tensor_at(stress, static_cast<int>(k), axis, axis);
       // Piecewise-constant sampling of the Hertz pressure: O(h^2) discretisation
-      // error (REFERENCES §6.3: 7e-5 of u_z(0) at the centre for 128 cells);
+      // error (docs/references.md §6.3: 7e-5 of u_z(0) at the centre for 128 cells);
       // measured below 2e-4 p0 here, asserted at 1e-3 p0.
       worst_z = std::max(worst_z, std::abs(s[zz] - fretsim::reference::hertz_axis_sigma_z(z, a, p0)) / p0);
       worst_r = std::max(worst_r, std::abs(s[xx] - fretsim::reference::hertz_axis_sigma_r(z, a, p0, nu)) / p0);
@@ -134,7 +134,7 @@ TEST(SubsurfaceStressHertz, AxisStressesAndMaximumShear)
   const double z_max   = depths[scan_first + (peak - shear.begin())] / a + offset * scan_step;
   std::printf("axis: max |sigma_z error| %.2e p0, |sigma_r error| %.2e p0; tau_max = %.5f p0 at z = %.4f a\n",
               worst_z, worst_r, tau_max, z_max);
-  // REFERENCES §1.1 table, nu = 0.3: 0.31002 p0 at z = 0.4809a; the issue asks 1 %.
+  // docs/references.md §1.1 table, nu = 0.3: 0.31002 p0 at z = 0.4809a; 1 % required.
   EXPECT_NEAR(tau_max, 0.31002, 0.01 * 0.31002);
   // Location to a tenth of the 0.004a scan step plus discretisation: 0.005a.
   EXPECT_NEAR(z_max, 0.4809, 0.005);
@@ -146,8 +146,8 @@ class SubsurfaceStressHamilton : public ::testing::TestWithParam<std::string>
 TEST_P(SubsurfaceStressHamilton, WholeLayersAgreeWithHamilton)
 {
   // Every cell centre of the 128 x 128 grid over +-1.5a on four layers against
-  // Hamilton's explicit normal-load stresses (REFERENCES §3.1); the issue asks
-  // for 1 % of p0.
+  // Hamilton's explicit normal-load stresses (docs/references.md §3.1); 1 % of p0
+  // required.
   const int           n = 128;
   const SurfaceGrid   grid = axis_centred_grid(n, 3 * a / n);
   const std::vector<double> depths = {0.1 * a, 0.25 * a, 0.48 * a, 1.0 * a};
@@ -175,7 +175,7 @@ INSTANTIATE_TEST_SUITE_P(Evaluators, SubsurfaceStressHamilton, ::testing::Values
 
 TEST(SubsurfaceStressHertz, HamiltonReferenceReproducesTable)
 {
-  // Self-check of tests/reference/hamilton.h against the P rows of REFERENCES
+  // Self-check of tests/reference/hamilton.h against the P rows of docs/references.md
   // §3.3 (6 decimals: tolerance 1e-6).
   for (const auto &row : fretsim::reference::sliding_table())
     {
@@ -192,7 +192,7 @@ TEST(SubsurfaceStressHertz, HamiltonReferenceReproducesTable)
 namespace
 {
   /// 128 x 128 cells of a/40: cell centres at integer multiples of a/40, so
-  /// every point of the REFERENCES §3.3 table is a cell centre.
+  /// every point of the docs/references.md §3.3 table is a cell centre.
   const int    sliding_n = 128;
   const double sliding_h = a / 40;
 
@@ -214,7 +214,7 @@ TEST(SubsurfaceStressSliding, TableValuesAndSurface)
       StressField stress;
       evaluator->evaluate(p, scaled(p, mu), zero, stress);
 
-      // Subsurface: the §3.3 table, P row + mu Q row, within 2 % of p0 (issue).
+      // Subsurface: the §3.3 table, P row + mu Q row, within 2 % of p0 (required).
       double worst_table = 0;
       for (std::size_t k = 0; k < table.size(); ++k)
         {
@@ -233,7 +233,7 @@ TEST(SubsurfaceStressSliding, TableValuesAndSurface)
         }
 
       // Surface, inside the contact: Hertz surface stresses plus the closed
-      // forms of the Hertz-shaped traction (REFERENCES §1.1, §3.2).
+      // forms of the Hertz-shaped traction (docs/references.md §1.1, §3.2).
       double worst_surface = 0, worst_inner = 0;
       for (int j = 0; j < sliding_n; ++j)
         for (int i = 0; i < sliding_n; ++i)
@@ -255,7 +255,7 @@ TEST(SubsurfaceStressSliding, TableValuesAndSurface)
           }
       std::printf("mu %.2f: table max error %.4f p0; surface max error r<=0.9a %.4f p0 (r<=a %.4f p0)\n", mu,
                   worst_table, worst_inner, worst_surface);
-      // Within 0.9a the issue's 2 % of p0 holds (measured 0.5 % at mu = 0.25,
+      // Within 0.9a the required 2 % of p0 holds (measured 0.5 % at mu = 0.25,
       // 1.1 % at mu = 0.5). In the outer ring of cells the piecewise-constant
       // traction cannot follow the square-root edge of q = mu p: the rim cells
       // err by ~0.2 mu p0 at h = a/40, shrinking like sqrt(h) (see
@@ -266,7 +266,7 @@ TEST(SubsurfaceStressSliding, TableValuesAndSurface)
 
 TEST(SubsurfaceStressSliding, TrailingEdgePeak)
 {
-  // The surface sigma_x peaks at the trailing edge x = -a (REFERENCES §3.2):
+  // The surface sigma_x peaks at the trailing edge x = -a (docs/references.md §3.2):
   // p0 [(1-2nu)/3 + pi mu (4+nu)/8]. How the grid approaches it: grids whose
   // cell centres fall on the rim (h = a/k, odd cell count, centre cell on the
   // axis, loads sampled at centres so the rim cell carries p = q = 0). The
@@ -355,7 +355,7 @@ namespace
 
 TEST(SubsurfaceStressEvaluators, FftEqualsDirectSummation)
 {
-  // DC-FFT is linear convolution, exact to round-off (REFERENCES §6.2-6.3:
+  // DC-FFT is linear convolution, exact to round-off (docs/references.md §6.2-6.3:
   // 4e-16 relative for u_z); asserted below 1e-10 of the largest stress.
   const MixedCase m = mixed_case();
   StressField     direct, fft;

@@ -5,7 +5,7 @@
 // resident memory (VmHWM) is that of the case. The checks are the solutions,
 // not the times: CG+GAMG at the working tolerance against MUMPS (the exact
 // algebraic solution up to round-off), iteration counts bounded. Each case
-// prints one row of the README table (FE module, "Speed and memory"):
+// prints one row of the table in docs/performance.md ("FE solves"):
 //
 //   build/tests/test_fem_slow_scaling --gtest_filter='Scaling.Ring50k'
 //   build/tests/test_fem_slow_scaling --gtest_filter='Scaling.Ring200k'
@@ -164,7 +164,7 @@ TEST(Scaling, Ring50k)
   EXPECT_LE(iterations[1], 30u); // measured 11 (BoomerAMG counts the preconditioned residual)
 }
 
-// ~200k DoFs, the speed target of issue 6 (static solve < 30 s including
+// ~200k DoFs, the design's speed target (static solve < 30 s including
 // assembly on the 2-core machine): GAMG at the working tolerance and at the
 // default 1e-10, against MUMPS.
 TEST(Scaling, Ring200k)

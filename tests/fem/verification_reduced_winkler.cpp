@@ -14,7 +14,7 @@
 //     larger set); Φ_r - Φ_full = ½‖u_r - u‖² + (a term ≥ 0 from the layer).
 //     Here that gap stays at 70-95 % of |Φ|: most of the full model's energy
 //     is the FE mesh's own indentation under the 0.3 x 1.3 mm ball patches,
-//     which the reduced model leaves to Hertz by design (README);
+//     which the reduced model leaves to Hertz by design (docs/bearing.md);
 //   * the pressure error (max-norm over the grid, relative to the full peak)
 //     falls monotonically with n_cc' = 12, 24, 48, 96, 192. Measured:
 //       k_n = 2.6e13: 0.85, 0.79, 0.59, 0.29, 0.16  (rate ~1 in n_cc from 48)

@@ -1,9 +1,9 @@
 // The paper's §5 outer ring (6208, raceway groove, Q2, ~114k DoFs) reduced to
 // 40 fixed-interface + 120 characteristic constraint modes (160 ≤ 200
-// coordinates, issue 7): the lowest 10 free-free frequencies within 0.5 % of
+// coordinates): the lowest 10 free-free frequencies within 0.5 % of
 // the full FE ones, the clamped-boundary ones exact to the eigen-solver's
 // tolerance, K_r and M_r symmetric to round-off. The run time is printed,
-// not asserted (machines here are noisy; README has the measured figures).
+// not asserted (shared machines are noisy; docs/reduce.md has the measured figures).
 #include "fem/fem_test_environment.h"
 #include "reduction/bearing_ring.h"
 

@@ -10,7 +10,7 @@
 //    interface problem, whose matrices are the constraint block of the classic
 //    CB model (an independent dense solve; 1e-6 relative);
 //  - free-free frequencies converge monotonically in (n_cc, m) and reach
-//    < 0.5 % for the lowest 10 (issue 7's requirement);
+//    < 0.5 % for the lowest 10 (required);
 //  - K_r, M_r symmetric to round-off, six rigid-body modes at ~0 Hz.
 #include "fem/fem_test_environment.h"
 #include "reduction/bearing_ring.h"
@@ -121,7 +121,7 @@ TEST(CraigBampton, ClassicReductionMatchesClampedModesStaticCondensationAndFreeM
               free_modes.frequencies_hz[0], free_modes.frequencies_hz[9]);
   // What is left is the interior inertia beyond 12 fixed-interface modes
   // (error ~ (f_10 / f_FI,13)² ≈ (15 kHz / 150 kHz)² ~ 1e-2 at worst); the
-  // issue's bound is 0.5 %.
+  // required bound is 0.5 %.
   EXPECT_LT(error, 5e-3);
 
   // The Guyan interface problem is the constraint block of this model.
@@ -166,5 +166,5 @@ TEST(CraigBampton, FreeFrequencyErrorFallsMonotonicallyWithModeCounts)
       EXPECT_LE(error, previous * (1 + 1e-9));
       previous = error;
     }
-  EXPECT_LT(previous, 5e-3); // issue 7: < 0.5 % on the lowest 10
+  EXPECT_LT(previous, 5e-3); // required: < 0.5 % on the lowest 10
 }

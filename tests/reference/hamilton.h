@@ -1,7 +1,7 @@
 #pragma once
-// Stresses under a circular Hertz contact, for tests (shared/REFERENCES.md §1.1,
+// Stresses under a circular Hertz contact, for tests (docs/references.md §1.1,
 // §3.1, §3.2). Independent of the library: closed forms only. Conventions of
-// REFERENCES §0: z >= 0 into the body, tension positive, shear traction in +x.
+// docs/references.md §0: z >= 0 into the body, tension positive, shear traction in +x.
 // Components in the library's Voigt order xx, yy, zz, yz, xz, xy.
 #include <array>
 #include <cmath>
@@ -11,13 +11,13 @@ namespace fretsim::reference
   using Stress = std::array<double, 6>; // xx, yy, zz, yz, xz, xy
 
   /// Hamilton (1983) explicit stresses of the Hertz pressure p0 sqrt(1 - r^2/a^2)
-  /// (REFERENCES §3.1), at any (x, y, z) with z > 0, or z = 0 off the rim.
+  /// (docs/references.md §3.1), at any (x, y, z) with z > 0, or z = 0 off the rim.
   inline Stress hamilton_normal(double x, double y, double z, double a, double p0, double nu)
   {
     const double scale = p0 / a; // 3P / (2 pi a^3)
     const double r2    = x * x + y * y;
     if (r2 < 1e-24 * a * a)
-      { // axis limit (REFERENCES §3.1)
+      { // axis limit (docs/references.md §3.1)
         const double s = (1 + nu) * (z * std::atan2(a, z) - a) + a * a * a / (2 * (a * a + z * z));
         return {scale * s, scale * s, -scale * a * a * a / (a * a + z * z), 0.0, 0.0, 0.0};
       }
@@ -46,7 +46,7 @@ namespace fretsim::reference
     return {scale * sx, scale * sy, scale * sz, scale * tyz, scale * txz, scale * txy};
   }
 
-  /// Frictionless Hertz on the axis (REFERENCES §1.1): sigma_z and sigma_r = sigma_theta.
+  /// Frictionless Hertz on the axis (docs/references.md §1.1): sigma_z and sigma_r = sigma_theta.
   inline double hertz_axis_sigma_z(double z, double a, double p0) { return -p0 / (1 + z * z / (a * a)); }
   inline double hertz_axis_sigma_r(double z, double a, double p0, double nu)
   {
@@ -55,7 +55,7 @@ namespace fretsim::reference
     return p0 * (-(1 + nu) * (1 - (z / a) * std::atan(a / z)) + 0.5 / (1 + z * z / (a * a)));
   }
 
-  /// Hertz surface stresses (z = 0) anywhere on the surface (REFERENCES §1.1;
+  /// Hertz surface stresses (z = 0) anywhere on the surface (docs/references.md §1.1;
   /// outside the contact sigma_r = -sigma_theta = (1-2nu)/3 a^2/r^2 p0).
   inline Stress hertz_surface(double x, double y, double a, double p0, double nu)
   {
@@ -85,7 +85,7 @@ namespace fretsim::reference
 
   /// Surface stresses inside the contact (r <= a) of the Hertz-shaped shear
   /// traction q0 sqrt(1 - r^2/a^2) in +x (Johnson §7.1, Hamilton & Goodman
-  /// 1966; REFERENCES §3.2).
+  /// 1966; docs/references.md §3.2).
   inline Stress hertz_shear_surface(double x, double y, double a, double q0, double nu)
   {
     const double r2 = (x * x + y * y) / (a * a);
@@ -97,17 +97,17 @@ namespace fretsim::reference
             -M_PI * (2 - nu) * q0 * y / (8 * a)};
   }
 
-  /// sigma_xz on the axis under the Hertz-shaped shear traction (REFERENCES §3.2).
+  /// sigma_xz on the axis under the Hertz-shaped shear traction (docs/references.md §3.2).
   inline double hertz_shear_axis_tau_xz(double z, double a, double q0)
   {
     return -1.5 * q0 * (1 - (z / a) * std::atan2(a, z) - a * a / (3 * (a * a + z * z)));
   }
 
   /// Trailing-edge (x = -a, y = 0) surface sigma_x / p0 under full sliding
-  /// q = mu p (Hamilton 1983; REFERENCES §3.2): (1-2nu)/3 + pi mu (4+nu)/8.
+  /// q = mu p (Hamilton 1983; docs/references.md §3.2): (1-2nu)/3 + pi mu (4+nu)/8.
   inline double sliding_trailing_edge_sigma_x(double mu, double nu) { return (1 - 2 * nu) / 3 + M_PI * mu * (4 + nu) / 8; }
 
-  /// REFERENCES §3.3: a = 1, nu = 0.3, stresses / p0, Q rows per unit mu
+  /// docs/references.md §3.3: a = 1, nu = 0.3, stresses / p0, Q rows per unit mu
   /// (Hertz-shaped shear with q0 = p0 in +x). Components here reordered to
   /// xx, yy, zz, yz, xz, xy from the table's [sx, sy, sz, txy, tyz, txz].
   struct SlidingTableRow

@@ -1,5 +1,5 @@
 #pragma once
-// Linear elasticity of ring and housing (DESIGN.md §3): FE_Q of degree 1 or 2
+// Linear elasticity of ring and housing (docs/theory.md §3): FE_Q of degree 1 or 2
 // per displacement component on a distributed mesh, with a mapping of the same
 // degree so curved surfaces converge at the element's rate; stiffness K and
 // mass M as PETSc matrices; static solutions and eigenmodes. SI units.
@@ -226,7 +226,7 @@ namespace fretsim::fem
     /// Lowest eigenmodes of K φ = ω² M φ by SLEPc Krylov–Schur with
     /// shift-and-invert (MUMPS inside). Constrained DoFs have a zero row and
     /// column in M and a unit-scale diagonal in K, i.e. infinite eigenvalues,
-    /// so they never show up among the lowest modes (the issue of step-36).
+    /// so they never show up among the lowest modes (the problem deal.II's step-36 describes).
     ModalSolution solve_modes(const ModalSettings &settings = {});
 
     /// The assembled PETSc matrices (owned by the model), for reduction/.

@@ -1,5 +1,5 @@
 #pragma once
-// Meshes of the bearing outer ring and its housing (DESIGN.md §3): 3-D
+// Meshes of the bearing outer ring and its housing (docs/theory.md §3): 3-D
 // hexahedra, built parametrically or read from Gmsh, distributed over the MPI
 // ranks. deal.II types stay in the sources (Mesh::Impl). SI units: lengths in m.
 //

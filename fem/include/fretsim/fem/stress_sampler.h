@@ -1,5 +1,5 @@
 #pragma once
-// Stress recovery at given points (DESIGN.md §3: "full FE stress snapshots"):
+// Stress recovery at given points (docs/theory.md §3: "full FE stress snapshots"):
 // surface sample points or the cell centres of a contact surface grid.
 //
 // How: each point is located once in the cell that holds it (through the

@@ -1,5 +1,5 @@
 #pragma once
-// Transfer between a contact surface grid and the FE model (DESIGN.md §3/§4):
+// Transfer between a contact surface grid and the FE model (docs/theory.md §3/§4):
 // the contact module's cell-centred grid laid on a cylindrical FE surface
 // (ring outer surface, housing bore), unrolled as x = arc length R·θ (θ from
 // the x axis towards y) and y = z.

@@ -1,5 +1,5 @@
 #pragma once
-// Forces and displacements at points of a mesh boundary (DESIGN.md §3/§4):
+// Forces and displacements at points of a mesh boundary (docs/theory.md §3/§4):
 // ball loads on the raceway groove, where a contact surface grid on a
 // cylinder (SurfaceGridMap) cannot go. Each point is located once in the
 // surface cell that holds it, and the cell's shape functions there form H:

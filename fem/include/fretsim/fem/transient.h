@@ -1,5 +1,5 @@
 #pragma once
-// Transient response under moving loads (DESIGN.md §3): Newmark's average
+// Transient response under moving loads (docs/theory.md §3): Newmark's average
 // acceleration rule (β = 1/4, γ = 1/2, the trapezoidal rule), unconditionally
 // stable and without numerical damping, so that an undamped free vibration
 // keeps its energy ½vᵀMv + ½uᵀKu exactly up to the solver's round-off.

@@ -1,5 +1,5 @@
 #pragma once
-// Craig–Bampton reduction of an FE body (DESIGN.md §3), with the interface
+// Craig–Bampton reduction of an FE body (docs/theory.md §3), with the interface
 // reduced by characteristic constraint modes.
 //
 // The FE DoFs split into boundary b (the nodes of the coupling surfaces) and

@@ -1,5 +1,5 @@
 #pragma once
-// A reduced model as the co-simulation needs it (DESIGN.md §3, §4): the
+// A reduced model as the co-simulation needs it (docs/theory.md §3, §4): the
 // Craig–Bampton matrices, the operators from modal coordinates q to the
 // quantities on the contact surfaces, and the provenance; written to and read
 // from an HDF5 model file. No HDF5 type appears here.

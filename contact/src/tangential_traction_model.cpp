@@ -1,5 +1,6 @@
 #include <fretsim/contact/bristle.h>
 #include <fretsim/contact/elastoplastic_bristle.h>
+#include <fretsim/contact/masing_traction.h>
 #include <fretsim/contact/tangential_traction_model.h>
 
 #include <algorithm>
@@ -15,8 +16,10 @@ namespace fretsim::contact
       return TractionModel::elastoplastic_bristle;
     if (name == "exact")
       return TractionModel::exact;
+    if (name == "exact masing")
+      return TractionModel::exact_masing;
     throw std::invalid_argument("traction model '" + name +
-                                "' is not one of: bristle, elastoplastic bristle, exact");
+                                "' is not one of: bristle, elastoplastic bristle, exact, exact masing");
   }
 
   std::string to_string(TractionModel model)
@@ -29,6 +32,8 @@ namespace fretsim::contact
           return "elastoplastic bristle";
         case TractionModel::exact:
           return "exact";
+        case TractionModel::exact_masing:
+          return "exact masing";
       }
     throw std::invalid_argument("unknown traction model");
   }
@@ -103,6 +108,31 @@ namespace fretsim::contact
 
       PartialSlipSolver solver;
     };
+
+    class MasingAdapter final : public TangentialTractionModel
+    {
+    public:
+      MasingAdapter(const SurfaceGrid &grid, const MaterialPair &materials, const PartialSlipSettings &settings)
+        : model(grid, materials, settings)
+      {
+      }
+
+      void advance(const Field &p, double mu, double dx, double dy) override { model.advance(p, mu, dx, dy); }
+      void advance(const Field &, double, const Field &, const Field &) override
+      {
+        throw std::logic_error("the exact masing traction model needs a uniform shift; use the exact model");
+      }
+      void          reset() override { model.reset(); }
+      const Field  &traction_x() const override { return model.traction_x(); }
+      const Field  &traction_y() const override { return model.traction_y(); }
+      Field         effective_friction() const override { return model.effective_friction(); }
+      double        slip_area_fraction() const override { return model.slip_area_fraction(); }
+      int           last_iterations() const override { return model.last_iterations(); }
+      TractionModel kind() const override { return TractionModel::exact_masing; }
+
+    private:
+      MasingTraction model;
+    };
   } // namespace
 
   std::unique_ptr<TangentialTractionModel> make_tangential_traction_model(TractionModel kind, const SurfaceGrid &grid,
@@ -119,6 +149,8 @@ namespace fretsim::contact
             grid, bristle_stiffness);
         case TractionModel::exact:
           return std::make_unique<ExactAdapter>(grid, materials, settings);
+        case TractionModel::exact_masing:
+          return std::make_unique<MasingAdapter>(grid, materials, settings);
       }
     throw std::invalid_argument("unknown traction model");
   }

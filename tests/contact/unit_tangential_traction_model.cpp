@@ -35,7 +35,8 @@ namespace
 
 TEST(TangentialTractionModel, NamesRoundTripAndUnknownNamesAreErrors)
 {
-  for (const auto model : {TractionModel::bristle, TractionModel::elastoplastic_bristle, TractionModel::exact})
+  for (const auto model : {TractionModel::bristle, TractionModel::elastoplastic_bristle, TractionModel::exact,
+                           TractionModel::exact_masing})
     EXPECT_EQ(parse_traction_model(to_string(model)), model);
   EXPECT_EQ(parse_traction_model("elastoplastic bristle"), TractionModel::elastoplastic_bristle);
   try
@@ -47,7 +48,7 @@ TEST(TangentialTractionModel, NamesRoundTripAndUnknownNamesAreErrors)
     {
       const std::string message = error.what();
       EXPECT_NE(message.find("kalker"), std::string::npos);
-      EXPECT_NE(message.find("bristle, elastoplastic bristle, exact"), std::string::npos);
+      EXPECT_NE(message.find("bristle, elastoplastic bristle, exact, exact masing"), std::string::npos);
     }
 }
 

@@ -103,6 +103,10 @@ namespace fretsim::contact
     /// FFTW_MEASURE plans (faster transforms, ~0.1-1 s planning once per window
     /// size and process) instead of FFTW_ESTIMATE.
     bool measure_fft_plans = true;
+    /// Masing superposition (masing_traction.h): the virgin traction is solved
+    /// at multiples of this shift [m] and interpolated in between; 0 solves it
+    /// at the shifts the history asks for.
+    double masing_level_spacing = 0.0;
   };
 
   /// What one load step did.

@@ -1,12 +1,14 @@
 #pragma once
-// One interface for the three tangential traction models of issue 5, so that
-// a scene can switch `traction model = bristle | elastoplastic bristle | exact`
-// and feed the same stress and Dang Van stages:
+// One interface for the tangential traction models, so that
+// a scene can switch `traction model = bristle | elastoplastic bristle | exact |
+// exact masing` and feed the same stress and Dang Van stages:
 //   bristle                 BristleTraction (paper eq. 4, DESIGN.md §2.3),
 //   elastoplastic bristle   ElastoplasticBristleTraction (elastic–perfectly-
 //                           plastic bristles with a true stick zone),
 //   exact                   PartialSlipSolver (elastic half-spaces, Kalker type,
-//                           DESIGN.md §2.4).
+//                           DESIGN.md §2.4),
+//   exact masing            MasingTraction (the exact model's solution by
+//                           superposition of its first loading).
 //
 // Meaning of the inputs, common to all models: per load step the pressure p
 // [Pa] per cell, the friction coefficient mu, and the increment since the last
@@ -34,10 +36,13 @@ namespace fretsim::contact
   {
     bristle,
     elastoplastic_bristle,
-    exact
+    exact,
+    /// The exact model's solution by Masing's superposition of its first
+    /// loading (masing_traction.h): constant pressure, shift along one line.
+    exact_masing
   };
 
-  /// "bristle", "elastoplastic bristle" or "exact"; std::invalid_argument
+  /// "bristle", "elastoplastic bristle", "exact" or "exact masing"; std::invalid_argument
   /// naming the valid choices otherwise.
   TractionModel parse_traction_model(const std::string &name);
   /// The scene name of a model (the inverse of parse_traction_model).

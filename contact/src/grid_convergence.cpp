@@ -11,33 +11,17 @@ namespace fretsim::contact
   {
     if (!std::isfinite(fine) || !std::isfinite(medium) || !std::isfinite(coarse))
       throw std::invalid_argument("richardson_estimate: the three values must be finite");
-    if (!(s.refinement_ratio > 1.0) || !(s.min_order > 0.0) || !(s.max_order >= s.min_order))
-      throw std::invalid_argument("richardson_estimate: expected a refinement ratio > 1 and 0 < min_order <= max_order");
-
+    if (!(s.refinement_ratio > 1.0) || !(s.order > 0.0) || !(s.safety_factor >= 0.0))
+      throw std::invalid_argument("richardson_estimate: expected a refinement ratio > 1, an order > 0 and a "
+                                  "safety factor >= 0");
     RichardsonEstimate result;
     const double       e_fine = fine - medium, e_coarse = medium - coarse;
-    const double       ln_r = std::log(s.refinement_ratio);
-    result.observed_order   = std::numeric_limits<double>::quiet_NaN();
-    if (e_fine == 0.0 && e_coarse == 0.0)
-      {
-        result.converged  = fine;
-        result.asymptotic = true;
-        return result;
-      }
-    if (e_fine * e_coarse <= 0.0)
-      {
-        // Oscillating (or one difference zero): no power law to extrapolate;
-        // keep the finest value and bound its error by the largest change.
-        result.converged      = fine;
-        result.error_estimate = s.fallback_safety * std::max(std::abs(e_fine), std::abs(e_coarse));
-        return result;
-      }
-    result.observed_order = std::log(e_coarse / e_fine) / ln_r;
-    result.asymptotic     = result.observed_order >= s.min_order;
-    const double order    = std::clamp(result.observed_order, s.min_order, s.max_order);
-    const double correction = e_fine / (std::pow(s.refinement_ratio, order) - 1.0);
-    result.converged        = fine + correction;
-    result.error_estimate   = (result.asymptotic ? s.safety_factor : s.fallback_safety) * std::abs(correction);
+    const double       gain   = std::pow(s.refinement_ratio, s.order) - 1.0;
+    result.converged          = fine + e_fine / gain;
+    result.error_estimate     = s.safety_factor * std::max(std::abs(e_fine), std::abs(e_coarse)) / gain;
+    result.observed_order     = e_fine * e_coarse > 0.0 ? std::log(e_coarse / e_fine) / std::log(s.refinement_ratio) :
+                                                          std::numeric_limits<double>::quiet_NaN();
+    result.asymptotic = std::isfinite(result.observed_order) && std::abs(result.observed_order - s.order) <= 0.25;
     return result;
   }
 } // namespace fretsim::contact

@@ -17,6 +17,8 @@
 #include <fretsim/contact/normal_contact.h>
 #include <fretsim/contact/tangential_traction_model.h>
 
+#include <array>
+
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -79,12 +81,14 @@ namespace fretsim::scenes
                                         "Time steps per sliding cycle; the time step is period / steps [-].", 4,
                                         1000000));
     specs.push_back(Spec::non_negative("Friction/Friction coefficient", "0.53", "Coulomb friction coefficient mu [-]."));
-    specs.push_back(Spec::selection("Friction/Traction model", "bristle",
-                                    "Tangential traction model: bristle (paper eq. 4, exponential bristles, the "
-                                    "fast model), elastoplastic bristle (elastic-perfectly-plastic bristles with a "
-                                    "true stick zone), exact (elastic half-spaces, Kalker-type partial-slip "
-                                    "solver, the reference; `fretsim compare-traction` runs all three).",
-                                    "bristle|elastoplastic bristle|exact"));
+    specs.push_back(Spec::selection("Friction/Traction model", "exact masing",
+                                    "Tangential traction model: exact masing (the exact model's solution by Masing's "
+                                    "superposition of its first loading: the elastic half-spaces at the cost of a "
+                                    "quarter cycle of solves; the default), exact (elastic half-spaces, Kalker-type "
+                                    "partial-slip solver every step, the reference), bristle (paper eq. 4, "
+                                    "exponential bristles), elastoplastic bristle (elastic-perfectly-plastic "
+                                    "bristles with a true stick zone). `fretsim compare-traction` runs them all.",
+                                    "exact masing|exact|bristle|elastoplastic bristle"));
     specs.push_back(Spec::real_range("Friction/Exact solver tolerance", "1e-8",
                                      "Relative RMS traction error at which the exact partial-slip solver stops "
                                      "each step [-].", 0, 1e-2, true));
@@ -98,6 +102,15 @@ namespace fretsim::scenes
     specs.push_back(Spec::real_range("Friction/Slip tolerance", "1e-3",
                                      "A point counts as slipping where |tau| >= (1 - tolerance) mu p [-].", 0, 1,
                                      true, true));
+    for (auto &spec : numerics_parameter_specs())
+      specs.push_back(std::move(spec));
+    return specs;
+  }
+
+  std::vector<app::ParameterSpec> ConcentratedContactScene::numerics_parameter_specs()
+  {
+    using Spec = app::ParameterSpec;
+    std::vector<Spec> specs;
     specs.push_back(Spec::integer_range("Grid/Cells x", "128", "Number of grid cells in x [-].", 8, 4096));
     specs.push_back(Spec::integer_range("Grid/Cells y", "128", "Number of grid cells in y [-].", 8, 4096));
     specs.push_back(Spec::real_range("Grid/Half width factor", "1.5",
@@ -152,6 +165,13 @@ namespace fretsim::scenes
                                         "cycle [-].", 0, 1000000));
     specs.push_back(Spec::integer_range("Output/Field output cycles", "1",
                                         "Snapshots are written for this many final cycles [-].", 0, 100000));
+    specs.push_back(Spec::selection("Convergence/Risk error estimate", "true",
+                                    "true: after the run, the same history on grids of 2 and 4 times the cell size "
+                                    "(and the coarsest at half the time step) gives risk_max_converged, the limit of "
+                                    "zero cell size and time step by Richardson extrapolation, and "
+                                    "risk_max_error_estimate, its error bar (about 45 % more run time). Needs "
+                                    "Cells x and Cells y divisible by 4 and at least 32.",
+                                    "true|false"));
     return specs;
   }
 
@@ -179,9 +199,40 @@ namespace fretsim::scenes
     grid = contact::SurfaceGrid::centred(s.cells_x, s.cells_y, s.half_width_factor * hertz.semi_axis_x,
                                          s.half_width_factor * hertz.semi_axis_y);
     build_stress_evaluator();
+
+    auto &c                = fretting_case;
+    c.materials            = s.materials;
+    c.radius_x             = s.radius_x;
+    c.radius_y             = s.radius_y;
+    c.normal_load          = s.normal_load;
+    c.sliding_amplitude    = s.sliding_amplitude;
+    c.sliding_direction    = s.sliding_direction;
+    c.period               = s.period;
+    c.cycles               = s.cycles;
+    c.steps_per_cycle      = s.steps_per_cycle;
+    c.friction_coefficient = s.friction_coefficient;
+    c.traction_model       = contact::parse_traction_model(s.traction_model);
+    c.bristle_stiffness =
+      (s.bristle_stiffness > 0.0 ? s.bristle_stiffness : calibrated_bristle_stiffness()) * s.bristle_stiffness_factor;
+    c.exact.tolerance       = s.exact_tolerance;
+    // The virgin levels of the Masing superposition as fine as a quarter
+    // cycle's steps, uniform in the shift (the time-step study refines both).
+    c.exact.masing_level_spacing = s.sliding_amplitude / (0.25 * s.steps_per_cycle);
+    c.numerical_pressure    = s.pressure_model == "numerical";
+    c.normal                = {s.normal_tolerance, s.normal_max_iterations};
+    c.stress_evaluator      = s.stress_evaluator;
+    c.depth_layers          = s.depth_layers;
+    c.residual_stress       = contact::parse_residual_stress_centre(s.residual_stress);
+    c.warmup_cycles         = s.warmup_cycles;
   }
 
   ConcentratedContactScene::~ConcentratedContactScene() = default;
+
+  double ConcentratedContactScene::calibrated_bristle_stiffness() const
+  {
+    return contact::BristleTraction::mindlin_stiffness(settings.materials.tangential_modulus(),
+                                                       hertz.equivalent_radius());
+  }
 
   void ConcentratedContactScene::build_stress_evaluator()
   {
@@ -240,9 +291,17 @@ namespace fretsim::scenes
     s.torsion_fatigue_limit = p.get_double("Dang Van/Torsion fatigue limit");
     s.residual_stress       = p.get("Dang Van/Residual stress");
     s.warmup_cycles         = static_cast<int>(p.get_integer("Dang Van/Warm-up cycles"));
+    s.estimate_risk_error   = p.get_bool("Convergence/Risk error estimate");
+    if (s.estimate_risk_error)
+      for (const auto &[name, cells] : {std::pair<std::string, int>{"Grid/Cells x", s.cells_x}, {"Grid/Cells y", s.cells_y}})
+        if (cells % 4 != 0 || cells < 32)
+          p.reject(name, "expected a multiple of 4 of at least 32 with 'Convergence/Risk error estimate' = true (the "
+                         "error estimate reruns on grids of a half and a quarter of the cells), got " +
+                           std::to_string(cells));
     try
       {
-        contact::DangVanConstants::from_fatigue_limits(s.bending_fatigue_limit, s.torsion_fatigue_limit);
+        fretting_case.dang_van =
+          contact::DangVanConstants::from_fatigue_limits(s.bending_fatigue_limit, s.torsion_fatigue_limit);
       }
     catch (const std::invalid_argument &error)
       {
@@ -273,266 +332,330 @@ namespace fretsim::scenes
       p.reject("Friction/Bristle stiffness factor", "the scaled bristle stiffness overflows");
   }
 
+  namespace
+  {
+    /// results.h5 of the concentrated scene: the grid, one series row per step
+    /// and the field snapshots of the last cycles.
+    class ConcentratedResults
+    {
+    public:
+      ConcentratedResults(const std::string &file, const std::string &parameters_prm, const contact::SurfaceGrid &grid,
+                          const std::vector<double> &depth_layers, double contact_radius)
+        : results(file, "concentrated", parameters_prm)
+      {
+        write_surface_grid(results, grid, depth_layers);
+        results.set_root_attribute("contact_radius_m", contact_radius);
+        for (const auto &[name, unit] : std::vector<std::pair<std::string, std::string>>{
+               {"time", "s"}, {"cycle", "1"}, {"displacement_x", "m"}, {"displacement_y", "m"},
+               {"tangential_force_x", "N"}, {"tangential_force_y", "N"}, {"normal_force", "N"},
+               {"tangential_force_mindlin_x", "N"}, {"slip_area_fraction", "1"}})
+          results.declare_series(name, unit);
+        field_shape = {static_cast<std::size_t>(grid.ny), static_cast<std::size_t>(grid.nx)};
+        for (const auto &[name, unit] : std::vector<std::pair<std::string, std::string>>{
+               {"pressure", "Pa"}, {"shear_x", "Pa"}, {"shear_y", "Pa"}, {"effective_friction", "1"}, {"slip", "1"}})
+          results.declare_field(name, unit, field_shape);
+        layers = depth_layers.size();
+        results.declare_field("stress", "Pa",
+                              {layers, std::size_t(contact::stress_component_count), field_shape[0], field_shape[1]});
+        results.set_root_attribute("stress_components", "xx, yy, zz, yz, xz, xy (tension positive, lower body)");
+        results.declare_field("risk", "1", {layers, field_shape[0], field_shape[1]});
+      }
+
+      void append_row(const std::vector<double> &row) { results.append_series_row(row); }
+
+      void append_snapshot(double time, const contact::FrettingRun &run, double slip_tolerance)
+      {
+        const contact::Field effective_friction = run.traction().effective_friction();
+        contact::Field       slip               = run.grid().zeros();
+        for (std::size_t c = 0; c < slip.size(); ++c)
+          slip[c] = run.pressure()[c] > 0.0 && effective_friction[c] >= 1.0 - slip_tolerance ? 1.0 : 0.0;
+        results.append_snapshot(time, {&run.pressure(), &run.traction().traction_x(), &run.traction().traction_y(),
+                                       &effective_friction, &slip, &run.stress().values, &run.risk().risk()});
+      }
+
+      void flush() { results.flush(); }
+
+      void close(const std::vector<double> &risk_max, bool completed, const std::string &xdmf_file)
+      {
+        results.write_dataset("/fields/risk_max", "1", {layers, field_shape[0], field_shape[1]}, risk_max);
+        results.set_root_attribute("status", completed ? "complete" : "interrupted");
+        results.flush();
+        results.write_xdmf(xdmf_file);
+      }
+
+    private:
+      output::ResultsFile      results;
+      std::vector<std::size_t> field_shape;
+      std::size_t              layers = 0;
+    };
+
+    /// D_max of the whole history on the grid of `cells` per direction.
+    contact::RiskMaximum risk_on_grid(const contact::FrettingCase &fretting_case, int cells_x, int cells_y,
+                                      double half_width_factor)
+    {
+      return contact::fretting_risk_maximum(fretting_case,
+                                            contact::fretting_grid(fretting_case, cells_x, cells_y, half_width_factor));
+    }
+  } // namespace
+
+  ConcentratedContactScene::History ConcentratedContactScene::simulate(contact::FrettingRun &run,
+                                                                       const RunOptions    &options,
+                                                                       const std::string   &results_file) const
+  {
+    const auto     &s = settings;
+    const auto     &grid_ = run.grid();
+    History         history{contact::FrettingLoop(s.steps_per_cycle), std::nullopt, 0.0};
+    const double    mu_P = s.friction_coefficient * s.normal_load;
+    const double    tangential_modulus = s.materials.tangential_modulus();
+    if (mu_P > 0.0)
+      history.mindlin.emplace(s.friction_coefficient, s.normal_load, hertz.equivalent_radius(), tangential_modulus);
+
+    double contact_area = 0.0;
+    for (const double value : run.pressure())
+      contact_area += value > 0.0 ? grid_.cell_area() : 0.0;
+    history.contact_radius = std::sqrt(contact_area / M_PI);
+    ConcentratedResults results(results_file, parameters.to_prm(), grid_, s.depth_layers, history.contact_radius);
+
+    const double direction_x = std::cos(s.sliding_direction), direction_y = std::sin(s.sliding_direction);
+    const int    snapshot_interval   = s.snapshots_per_cycle > 0 ? s.steps_per_cycle / s.snapshots_per_cycle : 0;
+    const long   first_snapshot_step = static_cast<long>(s.cycles - s.snapshot_cycles) * s.steps_per_cycle + 1;
+    const double time_step           = s.period / s.steps_per_cycle;
+    // One series row; returns the force along the sliding for the loop.
+    auto write_row = [&](long step, double displacement, double reference_force) {
+      const double force_x = contact::integrate(grid_, run.traction().traction_x());
+      const double force_y = contact::integrate(grid_, run.traction().traction_y());
+      const double slip_fraction =
+        contact::slip_area_fraction(run.traction().effective_friction(), run.pressure(), s.slip_tolerance);
+      results.append_row({step * time_step, static_cast<double>((step + s.steps_per_cycle - 1) / s.steps_per_cycle),
+                          displacement * direction_x, displacement * direction_y, force_x, force_y, s.normal_load,
+                          reference_force * direction_x, slip_fraction});
+      return force_x * direction_x + force_y * direction_y;
+    };
+
+    app::Progress progress("concentrated contact", run.total_steps(), options.progress);
+    history.loop.add(0.0, write_row(0, 0.0, 0.0));
+    results.flush();
+    while (!run.finished() && !app::interrupt_requested())
+      {
+        run.advance();
+        const long step            = run.steps_done();
+        const bool reversed_before = (step - 1) * time_step >= 0.25 * s.period * (1.0 - 1e-12);
+        const double reference_force =
+          history.mindlin ? contact::FrettingLoop::reference_force(*history.mindlin, s.sliding_amplitude,
+                                                                   run.displacement(), run.previous_displacement(),
+                                                                   reversed_before) :
+                            0.0;
+        history.loop.add(run.displacement(), write_row(step, run.displacement(), reference_force));
+        if (snapshot_interval > 0 && step >= first_snapshot_step && step % snapshot_interval == 0)
+          results.append_snapshot(run.time(), run, s.slip_tolerance);
+        results.flush();
+        progress.update(step, run.time());
+      }
+    progress.finish();
+    history.completed = run.finished();
+    results.close(run.risk().risk_max(), history.completed,
+                  (std::filesystem::path(options.output_directory) / "results.xdmf").string());
+    return history;
+  }
+
+  ConcentratedContactScene::RiskConvergence
+  ConcentratedContactScene::estimate_risk_convergence(const contact::RiskMaximum &finest) const
+  {
+    // The same history on the grids of 2 and 4 times the spacing (the grid's
+    // half-widths are kept, so the Hertz edge sits on a cell face of all three
+    // when the half-width factor is aligned: see aligned_half_width_factor),
+    // and on the coarsest grid with half the time step for the time error.
+    const auto &s = settings;
+    RiskConvergence convergence;
+    convergence.cells = {s.cells_x / 4, s.cells_x / 2, s.cells_x};
+    convergence.risk  = {risk_on_grid(fretting_case, s.cells_x / 4, s.cells_y / 4, s.half_width_factor).value,
+                         risk_on_grid(fretting_case, s.cells_x / 2, s.cells_y / 2, s.half_width_factor).value,
+                         finest.value};
+    contact::FrettingCase finer_in_time = fretting_case;
+    finer_in_time.steps_per_cycle *= 2;
+    const double coarse_half_step = risk_on_grid(finer_in_time, s.cells_x / 4, s.cells_y / 4, s.half_width_factor).value;
+    // First order in the time step: the limit lies as far beyond the half
+    // step as the half step lies beyond the full one.
+    convergence.time_step_correction = coarse_half_step - convergence.risk[0];
+    convergence.grid = contact::richardson_estimate(convergence.risk[2], convergence.risk[1], convergence.risk[0]);
+
+    if (fretting_case.traction_model != contact::TractionModel::exact)
+      {
+        // Both models over the same short history: the running-mean risk peaks
+        // in the first cycle, and the comparison needs only the same history.
+        contact::FrettingCase check = fretting_case;
+        check.cycles                = std::min(check.cycles, 2);
+        check.warmup_cycles         = std::min(check.warmup_cycles, check.cycles - 1);
+        const double model          = risk_on_grid(check, s.cells_x / 4, s.cells_y / 4, s.half_width_factor).value;
+        check.traction_model        = contact::TractionModel::exact;
+        const double exact          = risk_on_grid(check, s.cells_x / 4, s.cells_y / 4, s.half_width_factor).value;
+        convergence.model_and_exact_risk  = std::array<double, 2>{model, exact};
+        convergence.traction_check_cycles = check.cycles;
+      }
+    return convergence;
+  }
+
   RunReport ConcentratedContactScene::run(const RunOptions &options)
   {
-    const auto  run_start = Clock::now();
-    const auto &s         = settings;
-    RunReport   report;
-    output::Summary stage_times;
-
-    const double contact_modulus    = s.materials.contact_modulus();
-    const double tangential_modulus = s.materials.tangential_modulus();
-
-    // 1. Normal contact: pressure, constant during the sliding.
-    auto           stage_start = Clock::now();
-    contact::Field pressure    = grid.zeros();
-    int            normal_iterations = 0;
-    if (s.pressure_model == "numerical")
-      {
-        contact::Field initial_gap = grid.zeros();
-        for (int j = 0; j < grid.ny; ++j)
-          for (int i = 0; i < grid.nx; ++i)
-            initial_gap[grid.index(i, j)] = grid.x(i) * grid.x(i) / (2.0 * s.radius_x) +
-                                            grid.y(j) * grid.y(j) / (2.0 * s.radius_y);
-        const contact::NormalContactSolver solver(grid, contact_modulus,
-                                                  {s.normal_tolerance, s.normal_max_iterations});
-        const auto result = solver.solve(initial_gap, s.normal_load);
-        pressure          = result.pressure;
-        normal_iterations = result.iterations;
-      }
-    else
-      {
-        for (int j = 0; j < grid.ny; ++j)
-          for (int i = 0; i < grid.nx; ++i)
-            {
-              const double ex = grid.x(i) / hertz.semi_axis_x, ey = grid.y(j) / hertz.semi_axis_y;
-              pressure[grid.index(i, j)] = hertz.peak_pressure * std::sqrt(std::max(0.0, 1.0 - ex * ex - ey * ey));
-            }
-      }
-    double contact_area = 0.0;
-    for (const double value : pressure)
-      contact_area += value > 0.0 ? grid.cell_area() : 0.0;
-    const double contact_radius = std::sqrt(contact_area / M_PI);
-    stage_times.set("normal_contact", seconds_since(stage_start));
-
-    // 2. Subsurface stresses of the pressure, which stays constant: the
-    //    stresses are linear in the loads, so each instant only adds those of
-    //    the current shear traction.
-    stage_start = Clock::now();
-    const contact::Field no_load = grid.zeros();
-    contact::StressField pressure_stress, shear_stress, stress;
-    stresses->evaluate(pressure, no_load, no_load, pressure_stress);
-    const double seconds_of_pressure_stress = seconds_since(stage_start);
-    double       stress_seconds             = seconds_of_pressure_stress;
-    long         stress_evaluations         = 1;
-    auto   evaluate_stress = [&](const contact::Field &shear_x, const contact::Field &shear_y) {
-      const auto start = Clock::now();
-      stresses->evaluate(no_load, shear_x, shear_y, shear_stress);
-      stress = pressure_stress;
-      for (std::size_t k = 0; k < stress.values.size(); ++k)
-        stress.values[k] += shear_stress.values[k];
-      stress_seconds += seconds_since(start);
-      ++stress_evaluations;
-    };
-
-    // 3. Dang Van risk on every depth layer, fed the stress of every step.
-    contact::DangVanSettings dang_van_settings;
-    dang_van_settings.centre          = contact::parse_residual_stress_centre(s.residual_stress);
-    dang_van_settings.steps_per_cycle = s.steps_per_cycle;
-    dang_van_settings.warmup_cycles   = s.warmup_cycles;
-    contact::DangVanField risk(s.depth_layers.size() * grid.size(),
-                               contact::DangVanConstants::from_fatigue_limits(s.bending_fatigue_limit,
-                                                                              s.torsion_fatigue_limit),
-                               dang_van_settings);
-    double dang_van_seconds = 0.0;
-    auto   update_risk      = [&] {
-      const auto start = Clock::now();
-      risk.add_step(stress);
-      dang_van_seconds += seconds_since(start);
-    };
-
-    // 4. Bristle traction under harmonic sliding, with the Mindlin–Deresiewicz
-    //    loop alongside for the same displacement history.
-    const double calibrated_stiffness =
-      contact::BristleTraction::mindlin_stiffness(tangential_modulus, hertz.equivalent_radius());
-    const double stiffness =
-      (s.bristle_stiffness > 0.0 ? s.bristle_stiffness : calibrated_stiffness) * s.bristle_stiffness_factor;
-    contact::PartialSlipSettings exact_settings;
-    exact_settings.tolerance = s.exact_tolerance;
-    const auto traction_model = contact::make_tangential_traction_model(
-      contact::parse_traction_model(s.traction_model), grid, s.materials, stiffness, exact_settings);
-    auto &bristles = *traction_model;
-    double traction_seconds = 0.0;
-    long   traction_iterations = 0, most_traction_iterations = 0;
-    const contact::HarmonicSliding sliding{s.sliding_amplitude, s.period};
-    const double mu_P = s.friction_coefficient * s.normal_load;
-    std::optional<contact::MindlinLoop> mindlin;
-    if (mu_P > 0.0)
-      mindlin.emplace(s.friction_coefficient, s.normal_load, hertz.equivalent_radius(), tangential_modulus);
-    contact::FrettingLoop loop(s.steps_per_cycle);
-
+    const auto run_start = Clock::now();
+    RunReport  report;
     std::filesystem::create_directories(options.output_directory);
     report.results_file = (std::filesystem::path(options.output_directory) / "results.h5").string();
     report.summary_file = (std::filesystem::path(options.output_directory) / "summary.json").string();
-    // Held by pointer so it can be closed before the plotting script reads it
-    // (HDF5 locks a file that is open for writing).
-    auto results_owner =
-      std::make_unique<output::ResultsFile>(report.results_file, "concentrated", parameters.to_prm());
-    auto &results = *results_owner;
-    write_surface_grid(results, grid, s.depth_layers);
-    results.set_root_attribute("contact_radius_m", contact_radius);
-    for (const auto &[name, unit] : std::vector<std::pair<std::string, std::string>>{
-           {"time", "s"}, {"cycle", "1"}, {"displacement_x", "m"}, {"displacement_y", "m"},
-           {"tangential_force_x", "N"}, {"tangential_force_y", "N"}, {"normal_force", "N"},
-           {"tangential_force_mindlin_x", "N"}, {"slip_area_fraction", "1"}})
-      results.declare_series(name, unit);
-    const std::vector<std::size_t> field_shape{static_cast<std::size_t>(grid.ny), static_cast<std::size_t>(grid.nx)};
-    results.declare_field("pressure", "Pa", field_shape);
-    results.declare_field("shear_x", "Pa", field_shape);
-    results.declare_field("shear_y", "Pa", field_shape);
-    results.declare_field("effective_friction", "1", field_shape);
-    results.declare_field("slip", "1", field_shape);
-    results.declare_field("stress", "Pa", {s.depth_layers.size(), std::size_t(contact::stress_component_count),
-                                           field_shape[0], field_shape[1]});
-    results.set_root_attribute("stress_components", "xx, yy, zz, yz, xz, xy (tension positive, lower body)");
-    results.declare_field("risk", "1", {s.depth_layers.size(), field_shape[0], field_shape[1]});
 
-    const double direction_x = std::cos(s.sliding_direction), direction_y = std::sin(s.sliding_direction);
-    const long   total_steps = static_cast<long>(s.cycles) * s.steps_per_cycle;
-    const double time_step   = s.period / s.steps_per_cycle;
-    const int    snapshot_interval = s.snapshots_per_cycle > 0 ? s.steps_per_cycle / s.snapshots_per_cycle : 0;
-    const long   first_snapshot_step = static_cast<long>(s.cycles - s.snapshot_cycles) * s.steps_per_cycle + 1;
+    // 1. Normal contact, on the grid of the run.
+    contact::FrettingRun run(fretting_case, grid, std::move(stresses));
+    // 2. The sliding cycles: traction, stresses and Dang Van every step,
+    //    results.h5 growing step by step.
+    const History history = simulate(run, options, report.results_file);
+    report.completed      = history.completed;
+    // 3. The grid and time-step error of D_max, from coarser runs.
+    const auto convergence_start = Clock::now();
+    std::optional<RiskConvergence> convergence;
+    if (settings.estimate_risk_error && report.completed)
+      convergence = estimate_risk_convergence(run.risk_maximum());
+    const double convergence_seconds = seconds_since(convergence_start);
+    // 4. Summary and figures.
+    const output::Summary summary =
+      make_summary(run, history, convergence, convergence_seconds, seconds_since(run_start));
+    summary.write(report.summary_file);
+    report.numbers = key_numbers(run, history, seconds_since(run_start));
+    if (options.plots)
+      report.figures = make_figures(options.output_directory);
+    return report;
+  }
 
-    // The scene's slip tolerance, the same for every traction model.
-    auto slip_area_fraction = [&] {
-      return contact::slip_area_fraction(bristles.effective_friction(), pressure, s.slip_tolerance);
-    };
-    auto write_row = [&](long step, double displacement, double reference_force) {
-      const double force_x = contact::integrate(grid, bristles.traction_x());
-      const double force_y = contact::integrate(grid, bristles.traction_y());
-      const long   cycle   = (step + s.steps_per_cycle - 1) / s.steps_per_cycle;
-      results.append_series_row({step * time_step, static_cast<double>(cycle), displacement * direction_x,
-                                 displacement * direction_y, force_x, force_y, s.normal_load,
-                                 reference_force * direction_x,
-                                 slip_area_fraction()});
-      return force_x * direction_x + force_y * direction_y;
-    };
-    auto write_snapshot = [&](double time) {
-      const contact::Field effective_friction = bristles.effective_friction();
-      contact::Field       slip               = grid.zeros();
-      for (std::size_t c = 0; c < slip.size(); ++c)
-        slip[c] = pressure[c] > 0.0 && effective_friction[c] >= 1.0 - s.slip_tolerance ? 1.0 : 0.0;
-      results.append_snapshot(time, {&pressure, &bristles.traction_x(), &bristles.traction_y(),
-                                     &effective_friction, &slip, &stress.values, &risk.risk()});
-    };
-
-    stage_start = Clock::now();
-    app::Progress progress("concentrated contact", total_steps, options.progress);
-    loop.add(0.0, write_row(0, 0.0, 0.0));
-    results.flush();
-    double previous_displacement = 0.0;
-    long   steps_done            = 0;
-    for (long step = 1; step <= total_steps; ++step)
-      {
-        if (app::interrupt_requested())
-          break;
-        const double time         = step * time_step;
-        const double displacement = sliding.displacement(time);
-        const double slip         = displacement - previous_displacement;
-        const auto traction_start = Clock::now();
-        bristles.advance(pressure, s.friction_coefficient, slip * direction_x, slip * direction_y);
-        traction_seconds += seconds_since(traction_start);
-        traction_iterations += bristles.last_iterations();
-        most_traction_iterations = std::max<long>(most_traction_iterations, bristles.last_iterations());
-        const bool   reversed_before = (step - 1) * time_step >= 0.25 * s.period * (1.0 - 1e-12);
-        const double reference_force =
-          mindlin ? contact::FrettingLoop::reference_force(*mindlin, s.sliding_amplitude, displacement,
-                                                           previous_displacement, reversed_before) :
-                    0.0;
-        loop.add(displacement, write_row(step, displacement, reference_force));
-        evaluate_stress(bristles.traction_x(), bristles.traction_y());
-        update_risk();
-        if (snapshot_interval > 0 && step >= first_snapshot_step && step % snapshot_interval == 0)
-          write_snapshot(time);
-        results.flush();
-        previous_displacement = displacement;
-        steps_done            = step;
-        progress.update(step, time);
-      }
-    progress.finish();
-    stage_times.set("traction", traction_seconds);
-    stage_times.set("output", seconds_since(stage_start) - (stress_seconds - seconds_of_pressure_stress) -
-                                dang_van_seconds - traction_seconds);
-    stage_times.set("stresses", stress_seconds);
-    stage_times.set("dang_van", dang_van_seconds);
-
-    // The maximum risk and where it sits.
-    const std::vector<double> &risk_max = risk.risk_max();
-    results.write_dataset("/fields/risk_max", "1", {s.depth_layers.size(), field_shape[0], field_shape[1]}, risk_max);
-    std::size_t worst = 0;
-    for (std::size_t point = 0; point < risk_max.size(); ++point)
-      if (std::isfinite(risk_max[point]) && !(risk_max[point] <= risk_max[worst]))
-        worst = point;
-    const std::size_t worst_layer = worst / grid.size(), worst_cell = worst % grid.size();
-    const int         worst_i = static_cast<int>(worst_cell % grid.nx), worst_j = static_cast<int>(worst_cell / grid.nx);
-    const std::size_t infinite_max = risk.infinite_risk_max_count();
-    if (infinite_max > 0)
-      std::cerr << "fretsim: warning: " << infinite_max << " of " << risk_max.size()
-                << " points reached beta - alpha sigma_H <= 0 (hydrostatic tension beyond the Dang Van line): "
-                   "their risk is infinite in /fields/risk_max and left out of risk_max\n";
-    report.completed = steps_done == total_steps;
-
-    // 5. Summary of the run.
+  output::Summary ConcentratedContactScene::make_summary(const contact::FrettingRun            &run,
+                                                         const History                         &history,
+                                                         const std::optional<RiskConvergence>  &convergence,
+                                                         double convergence_seconds, double wall_seconds) const
+  {
+    const auto     &s   = settings;
     const double    nan = std::numeric_limits<double>::quiet_NaN();
+    const long long steps_done = run.steps_done();
     output::Summary summary;
     summary.set("scene", std::string("concentrated"));
     summary.set("config_file", parameters.file());
     summary.set("version", std::string(FRETSIM_VERSION));
-    summary.set("status", std::string(report.completed ? "complete" : "interrupted"));
-    summary.set("contact_radius_m", contact_radius);
+    summary.set("status", std::string(history.completed ? "complete" : "interrupted"));
+    summary.set("contact_radius_m", history.contact_radius);
     summary.set("hertz_contact_radius_m", hertz.equivalent_radius());
     summary.set("hertz_semi_axis_x_m", hertz.semi_axis_x);
     summary.set("hertz_semi_axis_y_m", hertz.semi_axis_y);
-    summary.set("peak_pressure_Pa", max_of(pressure));
+    summary.set("peak_pressure_Pa", max_of(run.pressure()));
     summary.set("hertz_peak_pressure_Pa", hertz.peak_pressure);
     summary.set("pressure_model", s.pressure_model);
-    summary.set("normal_solver_iterations", static_cast<long long>(normal_iterations));
+    summary.set("normal_solver_iterations", static_cast<long long>(run.normal_iterations()));
     summary.set("traction_model", s.traction_model);
-    summary.set("traction_seconds_per_step", steps_done > 0 ? traction_seconds / steps_done : nan);
-    if (bristles.kind() == contact::TractionModel::exact)
+    summary.set("traction_seconds_per_step", steps_done > 0 ? run.stage_times().traction / steps_done : nan);
+    if (run.traction().kind() == contact::TractionModel::exact || run.traction().kind() == contact::TractionModel::exact_masing)
       {
-        summary.set("traction_iterations_per_step", steps_done > 0 ? double(traction_iterations) / steps_done : nan);
-        summary.set("traction_iterations_max", static_cast<long long>(most_traction_iterations));
+        summary.set("traction_iterations_per_step",
+                    steps_done > 0 ? double(run.traction_iterations()) / steps_done : nan);
+        summary.set("traction_iterations_max", static_cast<long long>(run.most_traction_iterations()));
       }
-    summary.set("bristle_stiffness_Pa_per_m", stiffness);
-    summary.set("mindlin_calibrated_stiffness_Pa_per_m", calibrated_stiffness);
-    summary.set("stress_evaluator", stresses->name());
-    summary.set("stress_evaluations", static_cast<long long>(stress_evaluations));
-    summary.set("risk_max", risk_max.empty() ? nan : risk_max[worst]);
-    summary.set("risk_max_location_m", std::vector<double>{grid.x(worst_i), grid.y(worst_j), s.depth_layers[worst_layer]});
-    summary.set("risk_max_depth_m", s.depth_layers[worst_layer]);
-    summary.set("risk_max_time_s", (risk.risk_max_step()[worst] + 1) * time_step);
+    summary.set("bristle_stiffness_Pa_per_m", fretting_case.bristle_stiffness);
+    summary.set("mindlin_calibrated_stiffness_Pa_per_m", calibrated_bristle_stiffness());
+    summary.set("stress_evaluator", run.stress_evaluator().name());
+    summary.set("stress_evaluations", static_cast<long long>(steps_done + 1));
+    add_risk(summary, run, convergence);
+    summary.set("sliding_amplitude_m", s.sliding_amplitude);
+    summary.set("cycles", static_cast<long long>(history.loop.complete_cycles()));
+    summary.set("steps", steps_done);
+    add_loop(summary, history);
+
+    output::Summary stage_times;
+    stage_times.set("normal_contact", run.stage_times().normal_contact);
+    stage_times.set("traction", run.stage_times().traction);
+    stage_times.set("stresses", run.stage_times().stresses);
+    stage_times.set("dang_van", run.stage_times().dang_van);
+    stage_times.set("risk_error_estimate", convergence_seconds);
+    stage_times.set("total", wall_seconds);
+    summary.set_object("stage_times_s", stage_times);
+    summary.set("wall_time_s", wall_seconds);
+    return summary;
+  }
+
+  void ConcentratedContactScene::add_risk(output::Summary &summary, const contact::FrettingRun &run,
+                                          const std::optional<RiskConvergence> &convergence) const
+  {
+    const auto  &s      = settings;
+    const auto   worst  = run.risk_maximum();
+    const double x      = run.grid().x(worst.i), y = run.grid().y(worst.j), z = s.depth_layers[worst.layer];
+    summary.set("risk_max", worst.value);
+    summary.set("risk_max_location_m", std::vector<double>{x, y, z});
+    summary.set("risk_max_depth_m", z);
+    summary.set("risk_max_time_s", (worst.step + 1) * s.period / s.steps_per_cycle);
+    const std::size_t infinite_max = run.risk().infinite_risk_max_count();
+    if (infinite_max > 0)
+      std::cerr << "fretsim: warning: " << infinite_max << " of " << run.risk().n_points()
+                << " points reached beta - alpha sigma_H <= 0 (hydrostatic tension beyond the Dang Van line): "
+                   "their risk is infinite in /fields/risk_max and left out of risk_max\n";
     summary.set("risk_infinite_points", static_cast<long long>(infinite_max));
     summary.set("residual_stress_centre", s.residual_stress);
-    summary.set("sliding_amplitude_m", s.sliding_amplitude);
-    summary.set("cycles", static_cast<long long>(loop.complete_cycles()));
-    summary.set("steps", static_cast<long long>(steps_done));
-    if (mindlin)
+    if (!convergence)
+      return;
+    // The limit of zero cell size and time step, with a bar that holds both.
+    const auto &c = *convergence;
+    summary.set("risk_max_converged", c.grid.converged + c.time_step_correction);
+    // The coarsest grid underestimates the time-step error by about a fifth
+    // (paper case: 2.3e-3 at 32 cells against 2.9e-3 at 128): twice it is the bar.
+    summary.set("risk_max_error_estimate", c.grid.error_estimate + 2.0 * std::abs(c.time_step_correction));
+    summary.set("risk_max_converged_location_m", std::vector<double>{x, y, z});
+    output::Summary study;
+    study.set("method", std::string("Richardson extrapolation over grids of 4h, 2h and h at the square-root edge's "
+                                    "order 1/2, bar: the larger grid difference carried to the limit; plus the time "
+                                    "step's first-order correction from the coarsest grid at half the step, bar: "
+                                    "twice that correction"));
+    study.set("cells_x", std::vector<double>(c.cells.begin(), c.cells.end()));
+    study.set("risk_max", std::vector<double>(c.risk.begin(), c.risk.end()));
+    study.set("grid_limit", c.grid.converged);
+    study.set("grid_error_estimate", c.grid.error_estimate);
+    study.set("observed_order", c.grid.observed_order);
+    study.set("asymptotic", c.grid.asymptotic);
+    study.set("time_step_correction", c.time_step_correction);
+    summary.set_object("risk_convergence", study);
+    if (c.model_and_exact_risk)
       {
-        summary.set("gross_slip_displacement_m", mindlin->gross_slip_displacement());
-        summary.set("regime", std::string(s.sliding_amplitude < mindlin->gross_slip_displacement() ? "partial slip" : "gross slip"));
+        const auto [model, exact] = *c.model_and_exact_risk;
+        summary.set("traction_model_error_estimate", exact > 0.0 ? std::abs(model - exact) / exact : 0.0);
+        output::Summary check;
+        check.set("method", std::string("D_max of the traction model and of the incremental exact solver over the "
+                                        "same first cycles on the coarsest grid; relative difference"));
+        check.set("cells_x", static_cast<long long>(c.cells[0]));
+        check.set("cycles", static_cast<long long>(c.traction_check_cycles));
+        check.set("risk_max_model", model);
+        check.set("risk_max_exact", exact);
+        summary.set_object("traction_model_check", check);
+      }
+    else if (s.traction_model == "exact")
+      summary.set("traction_model_error_estimate", 0.0);
+  }
+
+  void ConcentratedContactScene::add_loop(output::Summary &summary, const History &history) const
+  {
+    const auto  &s    = settings;
+    const double nan  = std::numeric_limits<double>::quiet_NaN();
+    const double mu_P = s.friction_coefficient * s.normal_load;
+    if (history.mindlin)
+      {
+        const double gross_slip = history.mindlin->gross_slip_displacement();
+        summary.set("gross_slip_displacement_m", gross_slip);
+        summary.set("regime", std::string(s.sliding_amplitude == 0.0           ? "stick" :
+                                          s.sliding_amplitude < gross_slip ? "partial slip" :
+                                                                                  "gross slip"));
         summary.set("mindlin_reference", std::string(hertz.circular ? "exact (circular contact)" :
                                                        "approximate (elliptical contact, equivalent radius sqrt(ab))"));
       }
-    if (loop.complete_cycles() >= 1 && mindlin)
+    if (history.loop.complete_cycles() >= 1 && history.mindlin)
       {
-        const auto metrics = loop.last_cycle(mu_P, *mindlin, s.sliding_amplitude);
+        const auto metrics = history.loop.last_cycle(mu_P, *history.mindlin, s.sliding_amplitude);
         summary.set("tangential_force_amplitude_N", metrics.force_amplitude);
         summary.set("dissipated_energy_per_cycle_J", metrics.dissipated_energy);
         summary.set("loop_error_vs_mindlin", metrics.error_vs_reference);
         summary.set("loop_change_last_cycle", metrics.change_from_previous_cycle);
-        summary.set("mindlin_tangential_force_amplitude_N", mindlin->force_amplitude(s.sliding_amplitude));
-        summary.set("mindlin_dissipated_energy_per_cycle_J", mindlin->dissipated_energy(s.sliding_amplitude));
+        summary.set("mindlin_tangential_force_amplitude_N", history.mindlin->force_amplitude(s.sliding_amplitude));
+        summary.set("mindlin_dissipated_energy_per_cycle_J", history.mindlin->dissipated_energy(s.sliding_amplitude));
       }
     else
       {
@@ -541,35 +664,29 @@ namespace fretsim::scenes
         summary.set("dissipated_energy_per_cycle_J", mu_P > 0.0 ? nan : 0.0);
         summary.set("loop_error_vs_mindlin", nan);
       }
+  }
 
-    results.set_root_attribute("status", report.completed ? "complete" : "interrupted");
-    results.flush();
-    const std::string xdmf_file = (std::filesystem::path(options.output_directory) / "results.xdmf").string();
-    results.write_xdmf(xdmf_file);
-    results_owner.reset();
-    stage_times.set("total", seconds_since(run_start));
-    summary.set_object("stage_times_s", stage_times);
-    summary.set("wall_time_s", seconds_since(run_start));
-    summary.write(report.summary_file);
-
-    report.numbers = {{"wall_time_s", seconds_since(run_start)},
-                      {"traction_seconds", traction_seconds},
-                      {"risk_max", risk_max.empty() ? nan : risk_max[worst]},
-                      {"risk_max_x_m", grid.x(worst_i)},
-                      {"risk_max_y_m", grid.y(worst_j)},
-                      {"risk_max_depth_m", s.depth_layers[worst_layer]},
-                      {"friction_force_limit_N", mu_P},
-                      {"contact_radius_m", contact_radius}};
-    if (loop.complete_cycles() >= 1 && mindlin)
+  std::map<std::string, double> ConcentratedContactScene::key_numbers(const contact::FrettingRun &run,
+                                                                      const History &history, double wall_seconds) const
+  {
+    const auto  &s     = settings;
+    const auto   worst = run.risk_maximum();
+    std::map<std::string, double> numbers{{"wall_time_s", wall_seconds},
+                                          {"traction_seconds", run.stage_times().traction},
+                                          {"risk_max", worst.value},
+                                          {"risk_max_x_m", run.grid().x(worst.i)},
+                                          {"risk_max_y_m", run.grid().y(worst.j)},
+                                          {"risk_max_depth_m", s.depth_layers[worst.layer]},
+                                          {"friction_force_limit_N", s.friction_coefficient * s.normal_load},
+                                          {"contact_radius_m", history.contact_radius}};
+    if (history.loop.complete_cycles() >= 1 && history.mindlin)
       {
-        const auto metrics = loop.last_cycle(mu_P, *mindlin, s.sliding_amplitude);
-        report.numbers["dissipated_energy_per_cycle_J"] = metrics.dissipated_energy;
-        report.numbers["tangential_force_amplitude_N"]  = metrics.force_amplitude;
-        report.numbers["loop_error_vs_mindlin"]         = metrics.error_vs_reference;
+        const auto metrics = history.loop.last_cycle(s.friction_coefficient * s.normal_load, *history.mindlin,
+                                                     s.sliding_amplitude);
+        numbers["dissipated_energy_per_cycle_J"] = metrics.dissipated_energy;
+        numbers["tangential_force_amplitude_N"]  = metrics.force_amplitude;
+        numbers["loop_error_vs_mindlin"]         = metrics.error_vs_reference;
       }
-
-    if (options.plots)
-      report.figures = make_figures(options.output_directory);
-    return report;
+    return numbers;
   }
 } // namespace fretsim::scenes

@@ -4,11 +4,20 @@
 // no PETSc, no MPI, no SUNDIALS.
 #include "scenes/scene.h"
 
+#include "output/summary.h"
+
+#include <fretsim/contact/fretting_loop.h>
+#include <fretsim/contact/fretting_run.h>
+#include <fretsim/contact/grid_convergence.h>
 #include <fretsim/contact/material.h>
+#include <fretsim/contact/mindlin.h>
 #include <fretsim/contact/subsurface_stress.h>
 #include <fretsim/contact/surface_grid.h>
 
+#include <array>
+#include <map>
 #include <memory>
+#include <optional>
 
 namespace fretsim::scenes
 {
@@ -23,11 +32,14 @@ namespace fretsim::scenes
     explicit ConcentratedContactScene(app::SceneParameters parameters);
     ~ConcentratedContactScene() override;
 
-    /// Normal contact once, then harmonic sliding cycles with bristle traction;
-    /// results.h5 grows step by step, summary.json and figures at the end.
+    /// Normal contact once, then harmonic sliding cycles; results.h5 grows
+    /// step by step; then D_max on coarser grids for its converged value and
+    /// error bar; summary.json and figures at the end.
     RunReport run(const RunOptions &options) override;
 
   private:
+    static std::vector<app::ParameterSpec> numerics_parameter_specs();
+
     struct Settings
     {
       contact::MaterialPair materials;
@@ -54,6 +66,30 @@ namespace fretsim::scenes
       double      bending_fatigue_limit, torsion_fatigue_limit; // f-1, t-1 [Pa]
       std::string residual_stress;                              // Dang Van centre
       int         warmup_cycles;
+      bool        estimate_risk_error; // D_max on coarser grids for its converged value
+    };
+
+    /// What the sliding cycles leave besides the fields: the force loop, the
+    /// Mindlin reference, the contact radius of the numerical pressure.
+    struct History
+    {
+      contact::FrettingLoop               loop;
+      std::optional<contact::MindlinLoop> mindlin;
+      double                              contact_radius = 0.0; // [m]
+      bool                                completed      = false;
+    };
+
+    /// D_max on grids of 4h, 2h, h and its extrapolation.
+    struct RiskConvergence
+    {
+      std::array<int, 3>          cells{};         // cells in x, coarsest first
+      std::array<double, 3>       risk{};          // D_max on each
+      double                      time_step_correction = 0.0;
+      contact::RichardsonEstimate grid;
+      // The traction model against the incremental exact solver on the
+      // coarsest grid over the first (at most two) cycles; absent for exact.
+      std::optional<std::array<double, 2>> model_and_exact_risk;
+      int                                  traction_check_cycles = 0;
     };
 
     /// The Hertz solution the grid, the bristle calibration and the Mindlin
@@ -67,10 +103,23 @@ namespace fretsim::scenes
 
     void read_settings();
     void build_stress_evaluator();
+    double calibrated_bristle_stiffness() const;
+
+    History         simulate(contact::FrettingRun &run, const RunOptions &options, const std::string &results_file) const;
+    RiskConvergence estimate_risk_convergence(const contact::RiskMaximum &finest) const;
+    output::Summary make_summary(const contact::FrettingRun &run, const History &history,
+                                 const std::optional<RiskConvergence> &convergence, double convergence_seconds,
+                                 double wall_seconds) const;
+    void add_risk(output::Summary &summary, const contact::FrettingRun &run,
+                  const std::optional<RiskConvergence> &convergence) const;
+    void add_loop(output::Summary &summary, const History &history) const;
+    std::map<std::string, double> key_numbers(const contact::FrettingRun &run, const History &history,
+                                              double wall_seconds) const;
 
     app::SceneParameters parameters;
     Settings             settings;
     HertzSummary         hertz;
+    contact::FrettingCase fretting_case; // the validated settings the runs use
     contact::SurfaceGrid grid;
     std::unique_ptr<contact::SubsurfaceStress> stresses;
   };

@@ -9,6 +9,7 @@
 #include "app/parameters.h"
 #include "app/run_control.h"
 #include "app/stress_benchmark.h"
+#include "output/results_file.h"
 #include "scenes/scene.h"
 
 #include <fretsim/fem/library_info.h>
@@ -16,8 +17,10 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 
 namespace fretsim::app
 {
@@ -33,7 +36,8 @@ namespace fretsim::app
              reduction::library_versions() + ")";
     }
 
-    /// "Section/Name=value" from --set, as (path, value).
+    /// "Section/Name=value" from --set, as (path, value). The same path twice
+    /// is refused: which one should win is the user's to say.
     std::vector<std::pair<std::string, std::string>> parse_overrides(const std::vector<std::string> &settings)
     {
       std::vector<std::pair<std::string, std::string>> overrides;
@@ -42,20 +46,107 @@ namespace fretsim::app
           const auto equals = setting.find('=');
           if (equals == std::string::npos || equals == 0)
             throw InputError("(command line)", "--set", "expected Section/Name=value, got '" + setting + "'");
-          overrides.emplace_back(setting.substr(0, equals), setting.substr(equals + 1));
+          const std::string path = setting.substr(0, equals);
+          for (const auto &[earlier, value] : overrides)
+            if (earlier == path)
+              throw InputError("--set '" + setting + "'", path,
+                               "set twice (also --set '" + earlier + "=" + value + "'); expected it once");
+          overrides.emplace_back(path, setting.substr(equals + 1));
         }
       return overrides;
     }
 
-    int run_scene(const std::string &config_file, std::string output_directory, bool plots, bool quiet,
-                  const std::vector<std::string> &settings)
+    std::string default_output(const std::string &config_file, const std::string &suffix)
     {
-      // Everything is read and checked before anything is written.
-      const auto scene = scenes::load_scene(config_file, parse_overrides(settings));
-      if (output_directory.empty())
-        output_directory = (std::filesystem::path("results") / std::filesystem::path(config_file).stem()).string();
+      return (std::filesystem::path("results") / (std::filesystem::path(config_file).stem().string() + suffix))
+        .string();
+    }
+
+    /// The rank of this process in an MPI job started by mpiexec (0 alone):
+    /// the folder is claimed once, by rank 0, before MPI starts.
+    int launcher_rank()
+    {
+      for (const char *name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"})
+        if (const char *value = std::getenv(name))
+          return std::atoi(value);
+      return 0;
+    }
+
+    /// Claims a command's output folder: every rank checks it, rank 0 takes it.
+    std::unique_ptr<OutputFolder> claim_output(const std::string &folder, std::vector<std::string> own_files,
+                                               bool force)
+    {
+      OutputPolicy policy;
+      policy.own_files = std::move(own_files);
+      policy.force     = force;
+      if (launcher_rank() != 0)
+        {
+          OutputFolder::check(folder, policy);
+          return nullptr;
+        }
+      return std::make_unique<OutputFolder>(folder, policy);
+    }
+
+    std::string resources_text(const scenes::ResourceEstimate &estimate, double memory, double disk,
+                               const std::string &output_directory)
+    {
+      return "memory: about " + format_bytes(estimate.memory_bytes) + " for " + estimate.memory_basis + "; " +
+             format_bytes(memory) + " available (MemAvailable)\n" + "disk:   about " +
+             format_bytes(estimate.disk_bytes) + " for " + estimate.disk_basis + "; " + format_bytes(disk) +
+             " free at '" + output_directory + "'\n";
+    }
+
+    /// Refuses a run that cannot fit the machine, naming what sets the size.
+    void check_resources(const scenes::ResourceEstimate &estimate, const std::string &config_file,
+                         const std::string &output_directory)
+    {
+      const double memory = available_memory_bytes(), disk = free_disk_bytes(output_directory);
+      if (estimate.memory_bytes > memory)
+        throw InputError(config_file, "", "the run needs about " + format_bytes(estimate.memory_bytes) +
+                                            " of memory for " + estimate.memory_basis + ", but " +
+                                            format_bytes(memory) +
+                                            " is available (MemAvailable); expected a smaller problem");
+      if (estimate.disk_bytes > disk)
+        throw InputError(config_file, "", "the run writes about " + format_bytes(estimate.disk_bytes) + " for " +
+                                            estimate.disk_basis + ", but " + format_bytes(disk) + " is free at '" +
+                                            output_directory + "' (-o); expected fewer outputs");
+    }
+
+    struct SceneRunOptions
+    {
+      std::string              config_file, output_directory;
+      bool                     plots = true, quiet = false, force = false, dry_run = false;
+      std::vector<std::string> settings;
+    };
+
+    int run_scene(const SceneRunOptions &options)
+    {
+      // Everything is read and checked before anything is written: the
+      // parameters, the machine's room for the run, the output folder, then
+      // the scene's own cross-checks.
+      const auto &config_file = options.config_file;
+      auto parameters = scenes::load_parameters(config_file, parse_overrides(options.settings));
+      const std::string output_directory =
+        options.output_directory.empty() ? default_output(config_file, "") : options.output_directory;
+      OutputPolicy policy;
+      policy.own_files = scene_output_files();
+      policy.force     = options.force;
+      OutputFolder::check(output_directory, policy);
+      const auto estimate = scenes::estimate_resources(parameters);
+      if (options.dry_run)
+        {
+          std::cout << "config: " << config_file << " (scene " << parameters.scene() << "): every parameter valid\n"
+                    << resources_text(estimate, available_memory_bytes(), free_disk_bytes(output_directory),
+                                      output_directory);
+          check_resources(estimate, config_file, output_directory);
+          std::cout << "dry run: nothing computed or written\n";
+          return exit_ok;
+        }
+      check_resources(estimate, config_file, output_directory);
+      const OutputFolder folder(output_directory, policy);
+      const auto         scene = scenes::make_scene(std::move(parameters));
       install_interrupt_handlers();
-      const scenes::RunReport report = scene->run({output_directory, plots, !quiet});
+      const scenes::RunReport report = scene->run({output_directory, options.plots, !options.quiet});
       std::cout << "results:  " << std::filesystem::absolute(report.results_file).string() << "\n"
                 << "summary:  " << std::filesystem::absolute(report.summary_file).string() << "\n"
                 << "paraview: " << std::filesystem::absolute(std::filesystem::path(output_directory) / "results.xdmf").string() << "\n";
@@ -98,13 +189,27 @@ namespace fretsim::app
     app.set_version_flag("--version", version_text());
     app.require_subcommand(1);
 
-    std::string config_file, output_directory, scene;
-    bool        no_plots = false, quiet = false;
+    std::string scene;
+    bool        no_plots = false, quiet = false, force = false;
+    // Every command that writes a folder: a new one, or --force to replace
+    // the previous result of the same command (its own files only).
+    std::vector<std::pair<CLI::Option *, const std::string *>> outputs;
+    const auto add_output = [&force, &outputs](CLI::App *command, std::string &output, const std::string &help) {
+      outputs.emplace_back(command->add_option("-o,--output", output,
+                                               help + "; a new folder, or one holding a previous result with --force"),
+                           &output);
+      command->add_flag("--force", force,
+                        "Replace the previous result in the output folder (only the files this command writes)");
+    };
+    SceneRunOptions scene_run;
     auto *run = app.add_subcommand("run", "Run the scene described by a configuration file");
-    run->add_option("CONFIG", config_file, "Scene file (.prm or .json)")->required();
-    run->add_option("-o,--output", output_directory, "Output directory (default: results/<config name>)");
+    run->add_option("CONFIG", scene_run.config_file, "Scene file (.prm or .json)")->required();
+    add_output(run, scene_run.output_directory, "Output directory (default: results/<config name>)");
     run->add_flag("--no-plots", no_plots, "Do not write PNG figures");
     run->add_flag("-q,--quiet", quiet, "No progress line");
+    run->add_flag("--dry-run", scene_run.dry_run,
+                  "Check the configuration and the output folder and print the run's memory and disk estimate; "
+                  "compute and write nothing");
     std::vector<std::string> settings;
     run->add_option("--set", settings, "Override a parameter, e.g. --set 'Grid/Cells x=256' (repeatable)");
     auto *params = app.add_subcommand("params", "Print every parameter of a scene: default, allowed values, unit");
@@ -114,8 +219,7 @@ namespace fretsim::app
       "compare-traction", "Run a scene with each traction model (bristle, elastoplastic bristle, exact) and "
                           "report run time, loop, energy and D_max differences against the exact model");
     compare_traction->add_option("CONFIG", compare.config_file, "Scene file (.prm or .json)")->required();
-    compare_traction->add_option("-o,--output", compare.output_directory,
-                                 "Output directory (default: results/<config name>-traction)");
+    add_output(compare_traction, compare.output_directory, "Output directory (default: results/<config name>-traction)");
     compare_traction->add_flag("--no-plots", no_plots, "Do not write the PNG figure");
     compare_traction->add_flag("-q,--quiet", quiet, "No progress line");
     compare_traction->add_option("--set", settings, "Override a parameter, e.g. --set 'Loading/Sliding amplitude=1.12e-6'");
@@ -127,7 +231,7 @@ namespace fretsim::app
       command->add_option("CONFIG", fe_options.config_file,
                           "Configuration file (.prm or .json, Scene = ring_housing)")
         ->required();
-      command->add_option("-o,--output", fe_options.output, output_help);
+      add_output(command, fe_options.output, output_help);
       command->add_option("--set", settings, "Override a parameter, e.g. --set 'Mesh/Element degree=1'");
       return command;
     };
@@ -159,8 +263,7 @@ namespace fretsim::app
                  "and the error against the reduced model's size (table, CSV, PNG)");
     compare_full->add_option("CONFIG", full_fe_check.config_file, "Scene file (.prm or .json, Scene = bearing_housing)")
       ->required();
-    compare_full->add_option("-o,--output", full_fe_check.output_directory,
-                             "Output directory (default: results/<config name>-compare)");
+    add_output(compare_full, full_fe_check.output_directory, "Output directory (default: results/<config name>-compare)");
     compare_full->add_flag("--no-plots", no_plots, "Do not write the PNG figure");
     compare_full->add_flag("-q,--quiet", quiet, "No progress display");
     compare_full->add_option("--set", settings, "Override a parameter, e.g. --set 'Compare/Instants=8'");
@@ -176,7 +279,7 @@ namespace fretsim::app
     bench_stresses->add_option("--direct-limit", stress_bench.direct_time_limit,
                                "Run direct summation only where its predicted time is below this [s]")
       ->capture_default_str();
-    bench_stresses->add_option("-o,--output", stress_bench.output_directory, "Output directory")->capture_default_str();
+    add_output(bench_stresses, stress_bench.output_directory, "Output directory (default: " + stress_bench.output_directory + ")");
     bench_stresses->add_flag("--no-plots", no_plots, "Do not write the PNG figure");
 
     try
@@ -191,13 +294,29 @@ namespace fretsim::app
 
     try
       {
+        // An empty -o is a mistake (an unset shell variable), not the default.
+        for (const auto &[option, value] : outputs)
+          if (option->count() > 0 && value->empty())
+            throw InputError("(command line)", "-o", "expected a folder, got ''");
         if (*run)
-          return run_scene(config_file, output_directory, !no_plots, quiet, settings);
+          {
+            scene_run.plots    = !no_plots;
+            scene_run.quiet    = quiet;
+            scene_run.force    = force;
+            scene_run.settings = settings;
+            return run_scene(scene_run);
+          }
         if (*compare_traction)
           {
             compare.plots    = !no_plots;
             compare.progress = !quiet;
             compare.overrides = parse_overrides(settings);
+            if (compare.output_directory.empty())
+              compare.output_directory = default_output(compare.config_file, "-traction");
+            const auto folder = claim_output(compare.output_directory,
+                                             {"compare_traction.csv", "compare_traction.png", "bristle/",
+                                              "elastoplastic_bristle/", "exact/"},
+                                             force);
             install_interrupt_handlers();
             for (const auto &file : run_traction_comparison(compare))
               std::cout << (file.size() > 4 && file.substr(file.size() - 4) == ".png" ? "figure:   " : "table:    ")
@@ -209,6 +328,36 @@ namespace fretsim::app
             fe_options.overrides = parse_overrides(settings);
             fe_options.progress  = !quiet;
             fe_options.plots     = !no_plots;
+            std::unique_ptr<OutputFolder> folder;
+            if (*reduce && !reduction_study)
+              {
+                if (fe_options.output.empty())
+                  fe_options.output = default_output(fe_options.config_file, "-model.h5");
+                prepare_output_file(fe_options.output, "-o", force);
+              }
+            else if (*reduce)
+              {
+                if (fe_options.output.empty())
+                  fe_options.output = default_output(fe_options.config_file, "-reduction-study");
+                folder = claim_output(fe_options.output, {"reduction_study.csv", "reduction_study.png"}, force);
+              }
+            else if (*mesh)
+              {
+                if (fe_options.output.empty())
+                  fe_options.output = default_output(fe_options.config_file, "-mesh");
+                folder = claim_output(fe_options.output, {"mesh*.vtu", "mesh*.pvtu"}, force);
+              }
+            else
+              {
+                if (fe_options.output.empty())
+                  fe_options.output = default_output(fe_options.config_file, "-fe");
+                folder = claim_output(fe_options.output,
+                                      {"results.h5", "results.xdmf", "results.xdmf.tmp", "summary.json",
+                                       "summary.json.tmp", "fe_stress.png", "fe_modes.png", "displacement*.vtu",
+                                       "displacement*.pvtu", "fit_displacement*.vtu", "fit_displacement*.pvtu",
+                                       "mode_*.vtu", "mode_*.pvtu"},
+                                      force);
+              }
             if (*mesh)
               run_mesh_command(fe_options, std::cout);
             else
@@ -232,6 +381,12 @@ namespace fretsim::app
             full_fe_check.overrides = parse_overrides(settings);
             full_fe_check.plots     = !no_plots;
             full_fe_check.progress  = !quiet;
+            if (full_fe_check.output_directory.empty())
+              full_fe_check.output_directory = default_output(full_fe_check.config_file, "-compare");
+            const auto folder = claim_output(full_fe_check.output_directory,
+                                             {"compare.csv", "compare_housing.csv", "compare_transient.csv",
+                                              "compare_pressure.csv", "compare.png"},
+                                             force);
             for (const auto &file : run_compare_command(full_fe_check, std::cout))
               std::cout << (file.size() > 4 && file.substr(file.size() - 4) == ".png" ? "figure:   " : "table:    ")
                         << std::filesystem::absolute(file).string() << "\n";
@@ -240,6 +395,8 @@ namespace fretsim::app
         if (*bench_stresses)
           {
             stress_bench.plots = !no_plots;
+            const auto folder  = claim_output(stress_bench.output_directory,
+                                              {"stress_benchmark.csv", "stress_benchmark.png"}, force);
             for (const auto &file : run_stress_benchmark(stress_bench))
               std::cout << (file.size() > 4 && file.substr(file.size() - 4) == ".png" ? "figure:   " : "table:    ")
                         << std::filesystem::absolute(file).string() << "\n";
@@ -255,6 +412,14 @@ namespace fretsim::app
     catch (const std::exception &error)
       {
         std::cerr << "fretsim: internal error: " << error.what() << "\n";
+        if (output::ResultsFile::file_left_open())
+          {
+            // HDF5 would retry closing the file at exit and crash; what it
+            // holds was flushed step by step.
+            std::cout.flush();
+            std::cerr.flush();
+            std::_Exit(exit_failure);
+          }
         return exit_failure;
       }
   }

@@ -4,13 +4,19 @@
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/patterns.h>
 
+#include <boost/property_tree/json_parser.hpp>
+#include <boost/property_tree/ptree.hpp>
+
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <limits>
 #include <map>
 #include <regex>
+#include <set>
 #include <sstream>
 
 namespace fretsim::app
@@ -78,14 +84,162 @@ namespace fretsim::app
       return dot == std::string::npos ? "" : path.substr(dot);
     }
 
-    void require_readable(const std::string &path)
+    /// The closest of `candidates` to `unknown`, if near enough to be a
+    /// misspelling; "" otherwise.
+    std::string closest(const std::string &unknown, const std::vector<std::string> &candidates,
+                        bool by_last_part = false)
     {
-      std::ifstream in(path);
+      std::string best;
+      // Near-misses only: a few edits, more for long names.
+      std::size_t best_distance = std::max<std::size_t>(4, unknown.size() / 4);
+      for (const auto &candidate : candidates)
+        {
+          const std::string name     = by_last_part ? split_path(candidate).back() : candidate;
+          const std::size_t distance = edit_distance(unknown, name);
+          if (distance < best_distance)
+            {
+              best_distance = distance;
+              best          = candidate;
+            }
+        }
+      return best;
+    }
+
+    std::string did_you_mean(const std::string &unknown, const std::vector<std::string> &candidates,
+                             bool by_last_part = false)
+    {
+      const std::string best = closest(unknown, candidates, by_last_part);
+      return best.empty() ? "" : "; did you mean '" + best + "'?";
+    }
+
+    std::string joined(const std::vector<std::string> &items, const std::string &separator = ", ")
+    {
+      std::string text;
+      for (const auto &item : items)
+        text += (text.empty() ? "" : separator) + item;
+      return text;
+    }
+
+    /// The text of a configuration file, checked to be one and without a
+    /// UTF-8 byte order mark (editors on Windows add one; deal.II would read
+    /// it as part of the first name).
+    std::string read_config_text(const std::string &path)
+    {
+      std::error_code error;
+      if (std::filesystem::is_directory(path, error))
+        throw InputError(path, "", "is a directory; expected a .prm or .json file");
+      std::ifstream in(path, std::ios::binary);
       if (!in)
         throw InputError(path, "", "cannot open the configuration file (expected a readable .prm or .json file)");
       const std::string extension = extension_of(path);
       if (extension != ".prm" && extension != ".json")
         throw InputError(path, "", "unknown file type '" + extension + "' (expected a .prm or .json file)");
+      std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+      if (in.bad())
+        throw InputError(path, "", "cannot read the configuration file");
+      if (text.compare(0, 3, "\xEF\xBB\xBF") == 0)
+        text.erase(0, 3);
+      if (text.find('\0') != std::string::npos)
+        throw InputError(path, "", "holds a NUL byte; expected a text file");
+      return text;
+    }
+
+    std::string trimmed(const std::string &text)
+    {
+      const auto first = text.find_first_not_of(" \t\r");
+      if (first == std::string::npos)
+        return "";
+      return text.substr(first, text.find_last_not_of(" \t\r") - first + 1);
+    }
+
+    /// A name as deal.II compares it: trimmed, inner runs of blanks as one.
+    std::string normalised_name(const std::string &text)
+    {
+      std::string result;
+      for (const char c : trimmed(text))
+        if (!(c == ' ' || c == '\t') || (!result.empty() && result.back() != ' '))
+          result += (c == '\t' ? ' ' : c);
+      return result;
+    }
+
+    /// One `subsection NAME` or `set NAME = value` of a .prm file.
+    struct PrmStatement
+    {
+      std::size_t line;
+      std::string section; ///< the enclosing sections, "A/B"; "" at the top
+      std::string name;
+      std::string value;
+      bool        is_section;
+    };
+
+    /// Walks a .prm text as deal.II reads it (comments from '#', a trailing
+    /// backslash continues a line) and reports each statement; throws
+    /// InputError with the line for an unmatched 'end', an unclosed section
+    /// or a 'set' without '='.
+    void scan_prm(const std::string &text, const std::string &file,
+                  const std::function<void(const PrmStatement &)> &visit)
+    {
+      std::vector<std::string> open;       // the section path, one name per level
+      std::vector<std::size_t> open_lines; // where each level was opened
+      std::istringstream       lines(text);
+      std::string              line;
+      for (std::size_t next = 1; std::getline(lines, line);)
+        {
+          const std::size_t number = next++;
+          std::string       continued;
+          while (!trimmed(line).empty() && trimmed(line).back() == '\\' && std::getline(lines, continued))
+            {
+              line = trimmed(line);
+              line.pop_back();
+              line += " " + continued;
+              ++next;
+            }
+          const std::string statement = trimmed(line.substr(0, line.find('#')));
+          const std::string where     = file + ":" + std::to_string(number);
+          std::string       keyword, rest;
+          std::istringstream words(statement);
+          words >> keyword;
+          std::getline(words, rest);
+          if (keyword == "subsection")
+            {
+              visit({number, joined(open, "/"), normalised_name(rest), "", true});
+              open.push_back(normalised_name(rest));
+              open_lines.push_back(number);
+            }
+          else if (keyword == "end")
+            {
+              if (open.empty())
+                throw InputError(where, "", "'end' without a 'subsection' to close");
+              open.pop_back();
+              open_lines.pop_back();
+            }
+          else if (keyword == "set")
+            {
+              const auto equals = rest.find('=');
+              if (equals == std::string::npos)
+                throw InputError(where, "", "expected 'set Name = value', got '" + statement + "'");
+              visit({number, joined(open, "/"), normalised_name(rest.substr(0, equals)),
+                     trimmed(rest.substr(equals + 1)), false});
+            }
+        }
+      if (!open.empty())
+        throw InputError(file + ":" + std::to_string(open_lines.back()), "",
+                         "section '" + open.back() + "' is not closed; expected an 'end' for it");
+    }
+
+    boost::property_tree::ptree read_json_tree(const std::string &text, const std::string &file)
+    {
+      boost::property_tree::ptree tree;
+      try
+        {
+          std::istringstream in(text);
+          boost::property_tree::read_json(in, tree);
+        }
+      catch (const boost::property_tree::json_parser_error &error)
+        {
+          throw InputError(file + ":" + std::to_string(error.line()), "", "not valid JSON: " + error.message());
+        }
+      return tree;
     }
 
     /// deal.II reports parse errors as multi-line exception text; keep the
@@ -100,22 +254,15 @@ namespace fretsim::app
       if (std::regex_search(message, match, std::regex("No entry with name <([^>]*)>")))
         {
           const std::string unknown = match[1];
-          std::string       best;
-          std::size_t       best_distance = 4; // suggest only near-misses
+          std::vector<std::string> paths;
           for (const auto &spec : specs)
-            {
-              const std::string name     = split_path(spec.path).back();
-              const std::size_t distance = edit_distance(unknown, name);
-              if (distance < best_distance)
-                {
-                  best_distance = distance;
-                  best          = spec.path;
-                }
-            }
-          message = "unknown parameter '" + unknown + "' (" + message + ")";
-          if (!best.empty())
-            message += "; did you mean '" + best + "'?";
+            paths.push_back(spec.path);
+          message = "unknown parameter '" + unknown + "' (" + message + ")" + did_you_mean(unknown, paths, true);
         }
+      // deal.II quotes names in <...>; a section's name may lose its closing
+      // bracket in the one-line form, so no brackets are left in the message.
+      std::replace(message.begin(), message.end(), '<', '\'');
+      std::replace(message.begin(), message.end(), '>', '\'');
       return message;
     }
   } // namespace
@@ -150,6 +297,8 @@ namespace fretsim::app
       text += " and";
     if (has_max)
       text += std::string(max_exclusive ? " < " : " <= ") + format_number(max);
+    if (increasing)
+      text += ", increasing";
     return text;
   }
 
@@ -204,6 +353,61 @@ namespace fretsim::app
     /// so that a mismatch is reported here with the full path and the range in
     /// words (deal.II's own message names neither the subsection nor the range).
     std::map<std::string, std::unique_ptr<dealii::Patterns::PatternBase>> patterns;
+    /// The declared tree: each section's ("" is the top) parameters and subsections.
+    std::map<std::string, std::vector<std::string>> entries, subsections;
+    /// Where each value that is not a default was set, by path.
+    std::map<std::string, std::string> origins;
+
+    void declare_layout(const std::string &path)
+    {
+      const auto  parts = split_path(path);
+      std::string section;
+      for (std::size_t i = 0; i + 1 < parts.size(); ++i)
+        {
+          const std::string child = section.empty() ? parts[i] : section + "/" + parts[i];
+          auto &children = subsections[section];
+          if (std::find(children.begin(), children.end(), parts[i]) == children.end())
+            children.push_back(parts[i]);
+          section = child;
+        }
+      entries[section].push_back(parts.back());
+    }
+
+    /// What may appear in `section`, for messages.
+    std::string allowed_in(const std::string &section) const
+    {
+      std::vector<std::string> names;
+      if (entries.count(section))
+        names = entries.at(section);
+      if (subsections.count(section))
+        for (const auto &child : subsections.at(section))
+          names.push_back("subsection " + child);
+      return names.empty() ? "nothing" : joined(names);
+    }
+
+    [[noreturn]] void unknown_name(const std::string &where, const std::string &section, const std::string &name,
+                                   bool is_section) const
+    {
+      std::vector<std::string> candidates;
+      const auto &own = is_section ? subsections : entries;
+      if (own.count(section))
+        for (const auto &candidate : own.at(section))
+          candidates.push_back(section.empty() ? candidate : section + "/" + candidate);
+      std::string suggestion = did_you_mean(name, candidates, true);
+      if (suggestion.empty() && !is_section)
+        {
+          // A parameter in the wrong section: suggest it where it is declared.
+          std::vector<std::string> everywhere;
+          for (const auto &[owner, names] : entries)
+            for (const auto &candidate : names)
+              everywhere.push_back(owner.empty() ? candidate : owner + "/" + candidate);
+          suggestion = did_you_mean(name, everywhere, true);
+        }
+      throw InputError(where, "",
+                       std::string("unknown ") + (is_section ? "section '" : "parameter '") + name + "' in " +
+                         (section.empty() ? "the top level" : "section '" + section + "'") + " (allowed there: " +
+                         allowed_in(section) + ")" + suggestion);
+    }
 
     template <typename F>
     auto at(const std::string &path, F &&read) const
@@ -229,6 +433,7 @@ namespace fretsim::app
     auto &handler = impl->handler;
     handler.declare_entry("Scene", scene, dealii::Patterns::Selection(scene),
                           "Which scene this file describes.");
+    impl->declare_layout("Scene");
     for (const auto &spec : spec_table)
       {
         const auto parts = split_path(spec.path);
@@ -264,6 +469,7 @@ namespace fretsim::app
         handler.declare_entry(parts.back(), spec.default_value, dealii::Patterns::Anything(),
                               spec.doc + " Allowed: " + spec.expected() + ".");
         impl->patterns[spec.path] = std::move(pattern);
+        impl->declare_layout(spec.path);
         for (std::size_t i = 0; i + 1 < parts.size(); ++i)
           handler.leave_subsection();
       }
@@ -274,17 +480,20 @@ namespace fretsim::app
 
   void SceneParameters::parse_file(const std::string &path)
   {
-    require_readable(path);
-    file_name = path;
+    const std::string text = read_config_text(path);
+    file_name              = path;
+    const bool json        = extension_of(path) == ".json";
+    if (json)
+      check_json_text(text);
+    else
+      check_prm_text(text);
     try
       {
-        if (extension_of(path) == ".json")
-          {
-            std::ifstream in(path);
-            impl->handler.parse_input_from_json(in);
-          }
+        std::istringstream in(text);
+        if (json)
+          impl->handler.parse_input_from_json(in);
         else
-          impl->handler.parse_input(path);
+          impl->handler.parse_input(in, path);
       }
     catch (const dealii::ExceptionBase &error)
       {
@@ -299,14 +508,77 @@ namespace fretsim::app
     validate();
   }
 
-  void SceneParameters::set(const std::string &path, const std::string &value)
+  void SceneParameters::check_prm_text(const std::string &text)
   {
+    std::map<std::string, std::size_t> seen; // path -> line
+    scan_prm(text, file_name, [&](const PrmStatement &statement) {
+      const std::string where = file_name + ":" + std::to_string(statement.line);
+      const auto &declared = statement.is_section ? impl->subsections[statement.section] : impl->entries[statement.section];
+      if (std::find(declared.begin(), declared.end(), statement.name) == declared.end())
+        impl->unknown_name(where, statement.section, statement.name, statement.is_section);
+      if (statement.is_section)
+        return;
+      const std::string path = statement.section.empty() ? statement.name : statement.section + "/" + statement.name;
+      if (const auto previous = seen.find(path); previous != seen.end())
+        throw InputError(where, path, "set twice, on lines " + std::to_string(previous->second) + " and " +
+                                        std::to_string(statement.line) + "; expected it once");
+      seen[path]          = statement.line;
+      impl->origins[path] = where;
+    });
+  }
+
+  void SceneParameters::check_json_text(const std::string &text)
+  {
+    namespace pt = boost::property_tree;
+    // A JSON object may repeat a key; the parser keeps both, deal.II would use one.
+    std::function<void(const pt::ptree &, const std::string &)> walk = [&](const pt::ptree &node,
+                                                                         const std::string &section) {
+      std::set<std::string> keys;
+      for (const auto &[key, child] : node)
+        {
+          if (key.empty())
+            throw InputError(file_name, section, "holds a list; expected an object of parameters and sections");
+          const std::string path = section.empty() ? key : section + "/" + key;
+          if (!keys.insert(key).second)
+            throw InputError(file_name, path, "set twice in " +
+                                                (section.empty() ? "the top level" : "section '" + section + "'") +
+                                                "; expected it once");
+          const bool  is_section = !child.empty();
+          const auto &declared   = is_section ? impl->subsections[section] : impl->entries[section];
+          if (std::find(declared.begin(), declared.end(), key) == declared.end())
+            impl->unknown_name(file_name, section, key, is_section);
+          if (is_section)
+            walk(child, path);
+          else
+            impl->origins[path] = file_name;
+        }
+    };
+    walk(read_json_tree(text, file_name), "");
+  }
+
+  std::string SceneParameters::origin_of(const std::string &path) const
+  {
+    if (const auto origin = impl->origins.find(path); origin != impl->origins.end())
+      return origin->second;
+    return file_name.empty() ? "(defaults)" : file_name;
+  }
+
+  void SceneParameters::set(const std::string &path, const std::string &value, const std::string &source)
+  {
+    const std::string origin = source.empty() ? "--set '" + path + "=" + value + "'" : source;
     if (!impl->patterns.count(path))
-      throw InputError(file_name.empty() ? "(defaults)" : file_name, path, "no such parameter");
+      {
+        std::vector<std::string> paths;
+        for (const auto &spec : spec_table)
+          paths.push_back(spec.path);
+        throw InputError(origin, "", "no parameter '" + path + "' in scene '" + scene_name + "'" +
+                                       did_you_mean(path, paths));
+      }
     impl->at(path, [&](const std::string &name) {
       impl->handler.set(name, value);
       return 0;
     });
+    impl->origins[path] = origin;
     validate();
   }
 
@@ -330,12 +602,17 @@ namespace fretsim::app
           if (!std::isfinite(value) || (spec.min_exclusive && !(value > spec.min)) ||
               (spec.max_exclusive && !(value < spec.max)))
             reject(spec.path, "expected " + spec.expected() + ", got " + format_number(value));
+        if (spec.increasing)
+          for (std::size_t k = 1; k < values.size(); ++k)
+            if (!(values[k] > values[k - 1]))
+              reject(spec.path, "expected increasing values, each once, got " + format_number(values[k]) +
+                                  " after " + format_number(values[k - 1]) + " in '" + get(spec.path) + "'");
       }
   }
 
   void SceneParameters::reject(const std::string &path, const std::string &problem) const
   {
-    throw InputError(file_name.empty() ? "(defaults)" : file_name, path, problem);
+    throw InputError(origin_of(path), path, problem);
   }
 
   double SceneParameters::get_double(const std::string &path) const
@@ -415,30 +692,15 @@ namespace fretsim::app
   std::string SceneParameters::scene_of_file(const std::string &path,
                                              const std::vector<std::string> &known_scenes)
   {
-    require_readable(path);
-    dealii::ParameterHandler handler;
-    handler.declare_entry("Scene", "", dealii::Patterns::Anything(), "scene name");
-    try
-      {
-        if (extension_of(path) == ".json")
-          {
-            std::ifstream in(path);
-            handler.parse_input_from_json(in, /*skip_undefined=*/true);
-          }
-        else
-          handler.parse_input(path, "", /*skip_undefined=*/true);
-      }
-    catch (const dealii::ExceptionBase &error)
-      {
-        std::ostringstream info;
-        error.print_info(info);
-        throw InputError(path, "", one_line(info.str()));
-      }
-    catch (const std::exception &error)
-      {
-        throw InputError(path, "", one_line(error.what()));
-      }
-    const std::string scene = handler.get("Scene");
+    const std::string text = read_config_text(path);
+    std::string       scene;
+    if (extension_of(path) == ".json")
+      scene = read_json_tree(text, path).get<std::string>("Scene", "");
+    else
+      scan_prm(text, path, [&](const PrmStatement &statement) {
+        if (!statement.is_section && statement.section.empty() && statement.name == "Scene")
+          scene = statement.value;
+      });
     std::string       names;
     for (const auto &known : known_scenes)
       {

@@ -31,6 +31,7 @@ namespace fretsim::app
     bool        min_exclusive = false;
     bool        max_exclusive = false;
     std::string options;     ///< for selection: "a|b|c"
+    bool        increasing = false; ///< for real_list: strictly increasing (no repeats)
 
     /// Human-readable allowed range, e.g. "a number > 0", "one of: hertz|numerical".
     std::string expected() const;
@@ -57,9 +58,10 @@ namespace fretsim::app
 
     /// Reads and validates a .prm or .json file; throws InputError.
     void parse_file(const std::string &path);
-    /// Overrides one parameter (e.g. from the command line) and validates
-    /// again; throws InputError naming the parameter.
-    void set(const std::string &path, const std::string &value);
+    /// Overrides one parameter and validates again; throws InputError naming
+    /// `source` (default: the command line's --set 'path=value') and the
+    /// parameter, with a suggestion for a misspelt path.
+    void set(const std::string &path, const std::string &value, const std::string &source = "");
 
     double              get_double(const std::string &path) const;
     long                get_integer(const std::string &path) const;
@@ -67,7 +69,8 @@ namespace fretsim::app
     std::string         get(const std::string &path) const;
     std::vector<double> get_double_list(const std::string &path) const;
 
-    /// Throws InputError for `path` with `problem` (for cross-parameter checks).
+    /// Throws InputError for `path` with `problem` (for cross-parameter checks),
+    /// naming where the value came from (file and line, or --set).
     [[noreturn]] void reject(const std::string &path, const std::string &problem) const;
 
     const std::string &scene() const { return scene_name; }
@@ -86,6 +89,12 @@ namespace fretsim::app
 
   private:
     void validate() const;
+    /// Unknown sections and parameters, and a parameter set twice, in the
+    /// text of a .prm or .json file; records where each value was set.
+    void check_prm_text(const std::string &text);
+    void check_json_text(const std::string &text);
+    /// Where `path`'s value was set: "file:line", "file" or "--set '...'".
+    std::string origin_of(const std::string &path) const;
 
     struct Impl;
     std::string                scene_name;

@@ -52,21 +52,32 @@ namespace fretsim::output
 
     herr_t collect_error(unsigned position, const H5E_error2_t *error, void *client)
     {
+      // The innermost error says what went wrong; the rest is HDF5's call path.
       auto &text = *static_cast<std::string *>(client);
-      if (position > 0)
-        text += "; ";
-      text += (error->func_name ? std::string(error->func_name) + ": " : std::string()) +
-              (error->desc ? error->desc : "unknown error");
+      if (position == 0 && error->desc)
+        text = error->desc;
       return 0;
     }
 
-    /// The current HDF5 error stack as one line, the most specific error first.
+    /// The current HDF5 error in one short line: the system's reason (e.g.
+    /// "No space left on device") where HDF5 quotes one, else the innermost
+    /// error's description.
     std::string hdf5_reason()
     {
       std::string text;
       H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, collect_error, &text);
+      const auto quoted = text.find("error message = '");
+      if (quoted != std::string::npos)
+        {
+          const auto start = quoted + 17;
+          return text.substr(start, text.find('\'', start) - start);
+        }
+      std::replace(text.begin(), text.end(), '\n', ' ');
       return text;
     }
+
+    /// Set once a file could not be closed: HDF5 would try again at exit.
+    bool some_file_left_open = false;
 
     [[noreturn]] void fail(const std::string &file, const std::string &object, const std::string &what)
     {
@@ -621,10 +632,14 @@ namespace fretsim::output
     ok = impl->time.dataset.reset() && ok;
     ok = impl->row_space.reset() && ok;
     ok = impl->file.reset() && ok;
-    if (!ok)
+    // While an exception is on its way, its message already tells the failure.
+    if (!ok && std::uncaught_exceptions() == 0)
       std::cerr << "fretsim: warning: closing results file '" << impl->path << "' failed: " << hdf5_reason() << "\n";
+    some_file_left_open = some_file_left_open || !ok;
     H5Eclear2(H5E_DEFAULT);
   }
+
+  bool ResultsFile::file_left_open() { return some_file_left_open; }
 
   void ResultsFile::write_grid(const std::vector<double> &x, const std::vector<double> &y,
                                const std::vector<double> &z)

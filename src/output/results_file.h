@@ -69,6 +69,11 @@ namespace fretsim::output
     static double      read_double_attribute(const std::string &path, const std::string &object,
                                              const std::string &name);
 
+    /// True once a results file could not be closed (e.g. the disk is full).
+    /// HDF5 (1.10) then retries at exit and may crash; a program that sees
+    /// this ends without running the library's exit handlers.
+    static bool file_left_open();
+
   private:
     struct Impl;
     std::unique_ptr<Impl> impl;

@@ -51,6 +51,12 @@ namespace fretsim::scenes
       return spec;
     }
 
+    app::ParameterSpec increasing(app::ParameterSpec spec)
+    {
+      spec.increasing = true;
+      return spec;
+    }
+
     /// Reads the model file, or builds it with `fretsim reduce` when it is
     /// missing or was made from other inputs (if allowed).
     /// `mpi`: started on the first build and kept for the next (MPI starts
@@ -330,8 +336,8 @@ namespace fretsim::scenes
       Spec::selection("Stresses/Evaluator", "fft",
                       "Subsurface stresses of the interface tractions on the half-space: fft (DC-FFT), mlmi, direct.",
                       "fft|mlmi|direct"),
-      list(Spec::non_negative("Stresses/Depth layers", "0, 1e-4, 5e-4",
-                              "Depths below the ring's outer surface of the stress and risk layers [m].")),
+      increasing(list(Spec::non_negative("Stresses/Depth layers", "0, 1e-4, 5e-4",
+                                         "Depths below the ring's outer surface of the stress and risk layers [m]."))),
       Spec::positive("Dang Van/Bending fatigue limit", "690e6", "f-1 of the ring steel [Pa]."),
       Spec::positive("Dang Van/Torsion fatigue limit", "428e6", "t-1 of the ring steel [Pa]."),
       Spec::selection("Dang Van/Residual stress", "last_cycle_mean",
@@ -880,5 +886,43 @@ namespace fretsim::scenes
     if (!failure.empty())
       throw std::runtime_error(failure + " (results.h5 holds the steps done so far)");
     return report;
+  }
+
+  ResourceEstimate BearingHousingScene::estimate_resources(const app::SceneParameters &parameters)
+  {
+    const auto &par = parameters;
+    // The interface grid (G cells) of each body's reduction configuration.
+    const auto grid_cells = [](const models::ModelSource &source) {
+      const auto reduction = models::read_ring_housing_parameters(source.config, source.overrides);
+      return double(reduction.get_integer("Reduction/Interface grid circumferential cells")) *
+             double(reduction.get_integer("Reduction/Interface grid axial cells"));
+    };
+    const double cells       = grid_cells(models::ring_model_source(par));
+    const double layers      = double(par.get_double_list("Stresses/Depth layers").size());
+    const double samples     = std::round(par.get_double("Loading/Ball pass periods") *
+                                          double(par.get_integer("Output/Samples per ball pass"))) + 1.0;
+    double       dense_cells = par.get_bool("Interface/Ring residual flexibility") ? cells * cells : 0.0;
+    if (!par.get("Model/Housing reduction configuration").empty() &&
+        par.get_bool("Interface/Housing residual flexibility"))
+      dense_cells += std::pow(grid_cells(models::housing_model_source(par)), 2);
+
+    // A residual flexibility is a dense G × G matrix, held with its
+    // factorisation and the compliance it joins (3 copies); per cell and
+    // layer the stress evaluator, stress fields and Dang Van state (~900 B,
+    // as the concentrated scene); the pressure history (one field per
+    // output); the process, reduced model and integrator ~300 MB.
+    ResourceEstimate estimate;
+    estimate.memory_bytes = 300e6 + 24.0 * dense_cells + cells * (600.0 + 900.0 * layers + 8.0 * samples);
+    estimate.memory_basis = "the interface grid of " + std::to_string(long(cells)) +
+                            " cells (Reduction/Interface grid ... cells of Model/Reduction configuration) on " +
+                            std::to_string(long(layers)) + " Stresses/Depth layers" +
+                            (dense_cells > 0.0 ? ", with its residual flexibility (a dense cells × cells matrix)" : "");
+    // Per output: 4 interface fields, the risk on every layer, balls and modes.
+    const double sample_bytes = 8.0 * cells * (4.0 + layers) + 8.0 * 1000.0;
+    estimate.disk_bytes       = 5e6 + samples * sample_bytes + 8.0 * cells * layers;
+    estimate.disk_basis = std::to_string(long(samples)) +
+                          " outputs (Loading/Ball pass periods × Output/Samples per ball pass) of " +
+                          app::format_bytes(sample_bytes) + " each";
+    return estimate;
   }
 } // namespace fretsim::scenes

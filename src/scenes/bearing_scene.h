@@ -38,6 +38,9 @@ namespace fretsim::scenes
   {
   public:
     static std::vector<app::ParameterSpec> parameter_specs();
+    /// Memory and disk of a run, from the parameters and the interface grid
+    /// of the reduction configurations they name (no model is read or built).
+    static ResourceEstimate estimate_resources(const app::SceneParameters &parameters);
 
     /// Reads and cross-checks the parameters (and the reduction configuration
     /// they name); throws app::InputError and touches nothing on disk.

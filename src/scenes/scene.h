@@ -28,6 +28,18 @@ namespace fretsim::scenes
     std::map<std::string, double> numbers;
   };
 
+  /// What a run needs, estimated from its parameters before anything is
+  /// built, so that a run that cannot fit is refused at once rather than
+  /// failing after hours (or thrashing the machine). Upper estimates of the
+  /// largest terms; each names the parameters that set it.
+  struct ResourceEstimate
+  {
+    double      memory_bytes = 0.0; ///< peak resident memory
+    double      disk_bytes   = 0.0; ///< written into the output folder
+    std::string memory_basis;       ///< e.g. "Grid/Cells x × Grid/Cells y = 4096 × 4096, 5 depth layers"
+    std::string disk_basis;         ///< e.g. "2e7 field snapshots of 5.2 MB"
+  };
+
   class Scene
   {
   public:
@@ -38,9 +50,17 @@ namespace fretsim::scenes
   std::vector<std::string> scene_names();
   /// The declared parameters of a scene; throws std::invalid_argument for an unknown name.
   app::SceneParameters declare_parameters(const std::string &scene);
-  /// Reads the file, validates every parameter and builds the scene. Throws
-  /// app::InputError; touches nothing on disk.
+  /// Reads the file and validates every parameter on its own, building
+  /// nothing. Throws app::InputError; touches nothing on disk.
   /// `overrides` ("Section/Name", value) replace the file's values.
+  app::SceneParameters load_parameters(const std::string &config_file,
+                                       const std::vector<std::pair<std::string, std::string>> &overrides = {});
+  /// The run's memory and disk, from the parameters alone (fast: builds nothing).
+  ResourceEstimate estimate_resources(const app::SceneParameters &parameters);
+  /// Builds the scene, with its cross-parameter checks. Throws app::InputError;
+  /// touches nothing on disk.
+  std::unique_ptr<Scene> make_scene(app::SceneParameters parameters);
+  /// load_parameters, then make_scene.
   std::unique_ptr<Scene> load_scene(const std::string &config_file,
                                     const std::vector<std::pair<std::string, std::string>> &overrides = {});
 } // namespace fretsim::scenes

@@ -1,0 +1,84 @@
+#!/usr/bin/python3
+"""Is the concentrated scene's error bar honest? Each case runs twice: on a
+grid of N cells and on one of 4N, each with its own converged D_max and error
+estimate (risk_max_converged, risk_max_error_estimate). The bar of the coarse
+run must hold the fine run's converged value.
+
+    scripts/study_risk_error.py [-o DIR] [--cells 128] [--program build/fretsim]
+
+Prints a table and writes DIR/risk_error.csv. The cases: the paper's (steel
+ball on steel flat), an elliptical steel contact (Ry/Rx = 3, mu = 0.3) and an
+aluminium flat under a steel ball (mu = 0.7). Two cycles of 100 steps (the
+running-mean risk peaks in the first cycle).
+"""
+import argparse
+import csv
+import json
+import os
+import subprocess
+import sys
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+CONFIG = os.path.join(ROOT, "configs", "paper_concentrated.prm")
+COMMON = {"Loading/Cycles": "2", "Loading/Steps per cycle": "100", "Output/Field snapshots per cycle": "0"}
+CASES = {
+    "paper": {},
+    "elliptical": {"Geometry/Radius x": "0.02", "Geometry/Radius y": "0.06", "Loading/Normal load": "500",
+                   "Friction/Friction coefficient": "0.3", "Loading/Sliding amplitude": "1.0e-6"},
+    "aluminium": {"Materials/Lower body/Young's modulus": "70e9", "Materials/Lower body/Poisson ratio": "0.33",
+                  "Geometry/Radius x": "0.025", "Geometry/Radius y": "0.025", "Loading/Normal load": "800",
+                  "Friction/Friction coefficient": "0.7", "Loading/Sliding amplitude": "3.0e-6",
+                  "Dang Van/Bending fatigue limit": "140e6", "Dang Van/Torsion fatigue limit": "90e6"},
+}
+
+
+def run(program, output, settings):
+    arguments = [program, "run", CONFIG, "-o", output, "--no-plots", "-q", "--force"]
+    for key, value in settings.items():
+        arguments += ["--set", f"{key}={value}"]
+    started = time.time()
+    subprocess.run(arguments, check=True, stdout=subprocess.DEVNULL)
+    with open(os.path.join(output, "summary.json")) as stream:
+        summary = json.load(stream)
+    summary["seconds"] = time.time() - started
+    return summary
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("-o", "--output", default=os.path.join(ROOT, "results", "risk_error"))
+    parser.add_argument("--cells", type=int, default=128)
+    parser.add_argument("--program", default=os.path.join(ROOT, "build", "fretsim"))
+    parser.add_argument("--cases", default=",".join(CASES))
+    args = parser.parse_args()
+    rows = []
+    print(f"{'case':<12}{'cells':>6}{'D_max':>9}{'converged':>11}{'bar':>9}{'time [s]':>10}")
+    for name in args.cases.split(","):
+        results = {}
+        for cells in (args.cells, 4 * args.cells):
+            settings = dict(COMMON, **CASES[name], **{"Grid/Cells x": str(cells), "Grid/Cells y": str(cells)})
+            summary = run(args.program, os.path.join(args.output, f"{name}-{cells}"), settings)
+            results[cells] = summary
+            print(f"{name:<12}{cells:>6}{summary['risk_max']:>9.4f}{summary['risk_max_converged']:>11.4f}"
+                  f"{summary['risk_max_error_estimate']:>9.4f}{summary['seconds']:>10.1f}", flush=True)
+        coarse, fine = results[args.cells], results[4 * args.cells]
+        miss = abs(coarse["risk_max_converged"] - fine["risk_max_converged"])
+        holds = miss <= coarse["risk_max_error_estimate"]
+        print(f"{name:<12}|converged {args.cells} - converged {4 * args.cells}| = {miss:.4f} "
+              f"{'<=' if holds else '>'} bar {coarse['risk_max_error_estimate']:.4f}: {'holds' if holds else 'FAILS'}")
+        rows.append({"case": name, "cells": args.cells, "risk_max": coarse["risk_max"],
+                     "converged": coarse["risk_max_converged"], "error_estimate": coarse["risk_max_error_estimate"],
+                     "fine_cells": 4 * args.cells, "fine_risk_max": fine["risk_max"],
+                     "fine_converged": fine["risk_max_converged"], "fine_error_estimate": fine["risk_max_error_estimate"],
+                     "difference": miss, "holds": holds, "seconds": coarse["seconds"], "fine_seconds": fine["seconds"]})
+    os.makedirs(args.output, exist_ok=True)
+    with open(os.path.join(args.output, "risk_error.csv"), "w", newline="") as stream:
+        writer = csv.DictWriter(stream, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    return 0 if all(row["holds"] for row in rows) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

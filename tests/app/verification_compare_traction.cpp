@@ -18,8 +18,7 @@ namespace
   {
     return test_files::edited_paper_scene({{"Cells x", "64"}, {"Cells y", "64"}, {"Cycles", "2"},
                                            {"Steps per cycle", "40"}, {"Field snapshots per cycle", "4"},
-                                           {"Depth layers", "0"},
-                                           {"Friction coefficient", "0.53\n  set Traction model = " + model}});
+                                           {"Depth layers", "0"}, {"Traction model", model}});
   }
 } // namespace
 
@@ -60,11 +59,20 @@ TEST(TractionModels, CompareTractionReportsEveryModelAgainstExact)
       while (std::getline(fields, value, ','))
         rows[model].push_back(std::stod(value));
     }
-  ASSERT_EQ(rows.size(), 3u);
+  ASSERT_EQ(rows.size(), 4u);
   // Columns after the model: wall, speed-up, traction time, traction speed-up,
-  // loop error, energy, energy error, D_max, dD_max, distance, x, y, depth.
+  // loop error, slip error, energy, energy error, D_max, dD_max, relative
+  // dD_max, distance, x, y, depth.
   EXPECT_EQ(rows["exact"][4], 0.0);
-  EXPECT_EQ(rows["exact"][8], 0.0);
+  EXPECT_EQ(rows["exact"][5], 0.0);
+  EXPECT_EQ(rows["exact"][9], 0.0);
+  // The superposition against the incremental solver it replaces: D_max
+  // within 1 % (measured 3.5e-4), loop within 1e-3 mu P (measured 2.9e-4),
+  // at a fraction of its traction time (1.9x faster with 10 virgin levels for
+  // 80 steps here; the longer the history, the larger the gain).
+  EXPECT_LT(std::abs(rows["exact masing"][10]), 0.01);
+  EXPECT_LT(rows["exact masing"][4], 1e-3);
+  EXPECT_GT(rows["exact masing"][3], 1.5);
   // The paper's claim, for the traction stage: the local bristle models are
   // orders of magnitude faster than the exact solver (measured ~400-900x).
   EXPECT_GT(rows["bristle"][3], 30.0);
@@ -72,11 +80,9 @@ TEST(TractionModels, CompareTractionReportsEveryModelAgainstExact)
   // The exponential bristle's loop is the farther from exact (8.5 % vs 2.3 %
   // of mu P on the paper case) and dissipates several times more (docs/concentrated.md).
   EXPECT_GT(rows["bristle"][4], rows["elastoplastic bristle"][4]);
-  EXPECT_GT(rows["bristle"][6], 1.0);
-  for (const auto &model : {"bristle", "elastoplastic bristle", "exact"})
-    EXPECT_TRUE(std::filesystem::exists(output / std::string(model == std::string("elastoplastic bristle") ?
-                                                                "elastoplastic_bristle" : model) /
-                                        "results.h5"));
+  EXPECT_GT(rows["bristle"][7], 1.0);
+  for (const auto &folder : {"bristle", "elastoplastic_bristle", "exact_masing", "exact"})
+    EXPECT_TRUE(std::filesystem::exists(output / folder / "results.h5")) << folder;
 }
 
 TEST(TractionModels, ExtremeCasesStayFiniteAndBounded)
@@ -89,17 +95,14 @@ TEST(TractionModels, ExtremeCasesStayFiniteAndBounded)
     {"Friction coefficient", "0"},       {"Friction coefficient", "1.5"},   {"Sliding amplitude", "1e-9"},
     {"Sliding amplitude", "1e-4"},        {"Bristle stiffness factor", "1e6"}, {"Steps per cycle", "4"}};
   int run = 0;
-  for (const std::string model : {"bristle", "elastoplastic bristle", "exact"})
+  for (const std::string model : {"bristle", "elastoplastic bristle", "exact", "exact masing"})
     for (const auto &[name, value] : cases)
       {
         auto edits = std::vector<std::pair<std::string, std::string>>{
           {"Cells x", "32"}, {"Cells y", "32"}, {"Cycles", "2"}, {"Steps per cycle", "20"},
-          {"Field snapshots per cycle", "4"}, {"Depth layers", "0, 1e-4"},
-          {"Friction coefficient", "0.53\n  set Traction model = " + model}};
-        if (name == "Friction coefficient")
-          edits.back().second = value + "\n  set Traction model = " + model;
-        else
-          edits.push_back({name, value});
+          {"Field snapshots per cycle", "4"}, {"Depth layers", "0, 1e-4"}, {"Traction model", model},
+          {"Risk error estimate", "false"}};
+        edits.push_back({name, value});
         if (name == "Steps per cycle")
           edits.push_back({"Field snapshots per cycle", "4"});
         const auto directory = test_files::scratch_directory("extreme-" + std::to_string(run++));

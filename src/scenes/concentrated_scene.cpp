@@ -623,7 +623,7 @@ namespace fretsim::scenes
         check.set("method", std::string("D_max of the traction model and of the incremental exact solver over the "
                                         "same first cycles on the coarsest grid; relative difference"));
         check.set("cells_x", static_cast<long long>(c.cells[0]));
-        check.set("cycles", static_cast<long long>(c.traction_check_cycles));
+        check.set("cycles_compared", static_cast<long long>(c.traction_check_cycles));
         check.set("risk_max_model", model);
         check.set("risk_max_exact", exact);
         summary.set_object("traction_model_check", check);

@@ -38,7 +38,8 @@ if [ -n "$regex" ]; then
   targets=$selected
 fi
 # The app tests run the program too.
-cmake --build "$build" --target fretsim $targets -j "$jobs"
+case $targets in *test_app_*) targets="fretsim $targets" ;; esac
+cmake --build "$build" --target $targets -j "$jobs"
 
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:detect_odr_violation=0"
 export LSAN_OPTIONS="suppressions=$here/scripts/sanitizers/lsan.supp:print_suppressions=0"

@@ -87,6 +87,16 @@ namespace fretsim::app
       return std::make_unique<OutputFolder>(folder, policy);
     }
 
+    /// The same for a command's default folder, results/<config name><suffix>, when -o is not given.
+    std::unique_ptr<OutputFolder> claim_output(std::string &folder, const std::string &config_file,
+                                               const std::string &suffix, std::vector<std::string> own_files,
+                                               bool force)
+    {
+      if (folder.empty())
+        folder = default_output(config_file, suffix);
+      return claim_output(folder, std::move(own_files), force);
+    }
+
     std::string resources_text(const scenes::ResourceEstimate &estimate, double memory, double disk,
                                const std::string &output_directory)
     {
@@ -311,11 +321,9 @@ namespace fretsim::app
             compare.plots    = !no_plots;
             compare.progress = !quiet;
             compare.overrides = parse_overrides(settings);
-            if (compare.output_directory.empty())
-              compare.output_directory = default_output(compare.config_file, "-traction");
-            const auto folder = claim_output(compare.output_directory,
+            const auto folder = claim_output(compare.output_directory, compare.config_file, "-traction",
                                              {"compare_traction.csv", "compare_traction.png", "bristle/",
-                                              "elastoplastic_bristle/", "exact/"},
+                                              "elastoplastic_bristle/", "exact_masing/", "exact/"},
                                              force);
             install_interrupt_handlers();
             for (const auto &file : run_traction_comparison(compare))
@@ -336,22 +344,14 @@ namespace fretsim::app
                 prepare_output_file(fe_options.output, "-o", force);
               }
             else if (*reduce)
-              {
-                if (fe_options.output.empty())
-                  fe_options.output = default_output(fe_options.config_file, "-reduction-study");
-                folder = claim_output(fe_options.output, {"reduction_study.csv", "reduction_study.png"}, force);
-              }
+              folder = claim_output(fe_options.output, fe_options.config_file, "-reduction-study",
+                                    {"reduction_study.csv", "reduction_study.png"}, force);
             else if (*mesh)
-              {
-                if (fe_options.output.empty())
-                  fe_options.output = default_output(fe_options.config_file, "-mesh");
-                folder = claim_output(fe_options.output, {"mesh*.vtu", "mesh*.pvtu"}, force);
-              }
+              folder = claim_output(fe_options.output, fe_options.config_file, "-mesh", {"mesh*.vtu", "mesh*.pvtu"},
+                                    force);
             else
               {
-                if (fe_options.output.empty())
-                  fe_options.output = default_output(fe_options.config_file, "-fe");
-                folder = claim_output(fe_options.output,
+                folder = claim_output(fe_options.output, fe_options.config_file, "-fe",
                                       {"results.h5", "results.xdmf", "results.xdmf.tmp", "summary.json",
                                        "summary.json.tmp", "fe_stress.png", "fe_modes.png", "displacement*.vtu",
                                        "displacement*.pvtu", "fit_displacement*.vtu", "fit_displacement*.pvtu",
@@ -381,9 +381,7 @@ namespace fretsim::app
             full_fe_check.overrides = parse_overrides(settings);
             full_fe_check.plots     = !no_plots;
             full_fe_check.progress  = !quiet;
-            if (full_fe_check.output_directory.empty())
-              full_fe_check.output_directory = default_output(full_fe_check.config_file, "-compare");
-            const auto folder = claim_output(full_fe_check.output_directory,
+            const auto folder = claim_output(full_fe_check.output_directory, full_fe_check.config_file, "-compare",
                                              {"compare.csv", "compare_housing.csv", "compare_transient.csv",
                                               "compare_pressure.csv", "compare.png"},
                                              force);

@@ -8,7 +8,7 @@
 //   BM_InterfaceForces/1  the same with ∂f/∂q and ∂f/∂q̇ (a Newton setup);
 //   BM_InterfaceAccept    the bristle update after an accepted step.
 // Counter: loaded cells. Compare variants within one run (noisy machines).
-#include "coupling/ring_coupling.h"
+#include <fretsim/coupling/ring_coupling.h>
 
 #include <benchmark/benchmark.h>
 

@@ -1,5 +1,7 @@
 #include <fretsim/contact/bristle.h>
 
+#include <Eigen/Dense>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -46,6 +48,52 @@ namespace fretsim::contact
     const double magnitude = std::hypot(next.x, next.y);
     if (magnitude > mu_p)
       next = {next.x * mu_p / magnitude, next.y * mu_p / magnitude};
+    return next;
+  }
+
+  BristleStep bristle_step(double tau_x, double tau_y, double stiffness, double friction_coefficient,
+                           double pressure, double slip_x, double slip_y, bool sliding_on,
+                           BristleStepDerivatives &derivatives)
+  {
+    const double mu_p = friction_coefficient * pressure;
+    const BristleStep next = bristle_step(tau_x, tau_y, stiffness, mu_p, slip_x, slip_y);
+    derivatives            = {};
+    if (!(mu_p > 0.0))
+      return next;
+    const double          k = stiffness, mu = friction_coefficient;
+    const Eigen::Vector2d start(tau_x, tau_y), slip(slip_x, slip_y);
+    const double          slip_length = slip.norm();
+    const double          denominator = 1.0 + k * slip_length / mu_p;
+    const Eigen::Vector2d numerator   = start + k * slip;
+    Eigen::Matrix2d       by_slip;
+    Eigen::Vector2d       by_pressure = Eigen::Vector2d::Zero();
+    if (numerator.norm() > mu_p * denominator)
+      { // the Coulomb clamp: τ' = μp n/|n|
+        const Eigen::Vector2d unit = numerator.normalized();
+        by_slip     = mu_p * k / numerator.norm() * (Eigen::Matrix2d::Identity() - unit * unit.transpose());
+        by_pressure = mu * unit;
+      }
+    else
+      {
+        by_slip = (k / denominator) * Eigen::Matrix2d::Identity();
+        // "At ds = 0" is within 1 % of the slip μp/k that saturates a fresh
+        // bristle, where the law has moved τ by at most about 1 % of μp. The
+        // derivative along τ there is near zero; the spring's k I instead
+        // makes a Newton solver overshoot on sliding cells.
+        if (sliding_on && k * slip_length <= 1e-2 * mu_p && start.norm() > 0.0)
+          by_slip -= k / mu_p * start * start.normalized().transpose();
+        else if (slip_length > 0.0)
+          {
+            by_slip -= k / (mu_p * denominator * denominator) * numerator * (slip / slip_length).transpose();
+            by_pressure = (mu * k * slip_length / (mu_p * mu_p * denominator * denominator)) * numerator;
+          }
+      }
+    for (int i = 0; i < 2; ++i)
+      {
+        derivatives.by_slip[i][0] = by_slip(i, 0);
+        derivatives.by_slip[i][1] = by_slip(i, 1);
+        derivatives.by_pressure[i] = by_pressure[i];
+      }
     return next;
   }
 

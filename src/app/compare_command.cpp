@@ -2,21 +2,20 @@
 
 #include "app/compare_housing.h"
 
-#include "app/reduce_command.h"
-#include "app/reduced_statics.h"
-#include "coupling/ring_coupling.h"
-#include "app/ring_housing.h"
 #include "output/results_file.h"
-#include "scenes/bearing_scene.h"
 #include "scenes/figures.h"
 #include "scenes/scene.h"
 
+#include <fretsim/coupling/ring_coupling.h>
 #include <fretsim/fem/parallel_environment.h>
 #include <fretsim/fem/shifted_static_solver.h>
 #include <fretsim/fem/stress_sampler.h>
 #include <fretsim/fem/surface_grid_map.h>
 #include <fretsim/fem/surface_point_map.h>
 #include <fretsim/fem/winkler_foundation.h>
+#include <fretsim/models/model_source.h>
+#include <fretsim/models/reduced_statics.h>
+#include <fretsim/models/reduction.h>
 #include <fretsim/reduction/craig_bampton.h>
 #include <fretsim/reduction/reduced_model.h>
 
@@ -38,6 +37,26 @@
 
 namespace fretsim::app
 {
+  using models::HousingAround;
+  using models::ResidualWinklerSolution;
+  using models::add_ball_row;
+  using models::apply;
+  using models::relieved_static;
+  using models::remove_rigid_motion;
+  using models::residual_u_r;
+  using models::winkler_with_residual;
+  using models::RingHousingRequest;
+  using models::Truncation;
+  using models::build_ring_housing_mesh;
+  using models::read_housing_around;
+  using models::read_ring_housing_parameters;
+  using models::read_ring_housing_request;
+  using models::reduce_input_hash;
+  using models::residual_flexibility;
+  using models::rigid_modes;
+  using models::starts_with_rigid_motions;
+  using models::truncate;
+
   namespace
   {
     using Clock = std::chrono::steady_clock;
@@ -656,7 +675,7 @@ namespace fretsim::app
       p.reject("Model/Reduction configuration", "is empty; name the ring_housing configuration of the reduced model");
     // The reduction configurations and model files as the scene resolves
     // them (with the ring's basis sizes the scene may set over its own).
-    const scenes::ModelSource ring = scenes::ring_model_source(p);
+    const models::ModelSource ring = models::ring_model_source(p);
     in.reduction_config            = ring.config;
     in.model_file                  = ring.file;
     in.model_overrides             = ring.overrides;
@@ -682,7 +701,7 @@ namespace fretsim::app
     in.radial_interference = p.get_double("Interface/Radial interference");
     if (!p.get("Model/Housing reduction configuration").empty())
       {
-        const scenes::ModelSource housing = scenes::housing_model_source(p);
+        const models::ModelSource housing = models::housing_model_source(p);
         in.housing_reduction_config       = housing.config;
         in.housing_model_file             = housing.file;
       }

@@ -1,6 +1,6 @@
 #pragma once
 // `fretsim compare CONFIG`: the reduced ring of a bearing_housing co-simulation
-// checked against the full FE model (issue 8). At N instants of a run, the
+// checked against the full FE model. At N instants of a run, the
 // same loads — the balls (Hertz patches at ψ_j with force Q_j, the model's
 // footprint and contact angle) and the housing's tractions on the interface
 // grid — are applied to

@@ -1,11 +1,10 @@
 #include "app/compare_housing.h"
 
 #include "app/parameters.h"
-#include "app/reduce_command.h"
-#include "app/reduced_statics.h"
-#include "app/ring_housing.h"
 
 #include <fretsim/fem/surface_grid_map.h>
+#include <fretsim/models/reduced_statics.h>
+#include <fretsim/models/reduction.h>
 #include <fretsim/reduction/reduced_model.h>
 
 #include <Eigen/Dense>
@@ -18,6 +17,13 @@
 
 namespace fretsim::app
 {
+  using models::HousingAround;
+  using models::RingHousingRequest;
+  using models::build_ring_housing_mesh;
+  using models::read_housing_around;
+  using models::residual_u_r;
+  using models::reduce_input_hash;
+
   namespace
   {
     using Clock = std::chrono::steady_clock;

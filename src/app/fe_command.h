@@ -1,8 +1,8 @@
 #pragma once
 // `fretsim fe CONFIG -o DIR`: full-FE reference solutions of a ring_housing
 // configuration (static load cases, eigenmodes, transients), written as
-// stress snapshots to HDF5 (DESIGN.md §3).
-#include "app/ring_housing.h"
+// stress snapshots to HDF5 (docs/theory.md §3).
+#include "app/ring_housing_command.h"
 
 #include <iosfwd>
 #include <string>
@@ -10,9 +10,6 @@
 
 namespace fretsim::app
 {
-  /// The parameters of the `fe` command's sections.
-  std::vector<ParameterSpec> fe_parameter_specs();
-
   /// Reads and validates the configuration (InputError before anything is
   /// written), runs the FE analysis, writes the results and returns the files
   /// written. Collective over the MPI ranks.

@@ -9,6 +9,11 @@
 
 namespace fretsim::app
 {
+  using models::RingHousingRequest;
+  using models::build_ring_housing_mesh;
+  using models::read_ring_housing_parameters;
+  using models::read_ring_housing_request;
+
   namespace
   {
     using fem::BoundaryId;

@@ -2,7 +2,7 @@
 // `fretsim mesh CONFIG -o DIR`: builds (or reads) the ring/housing mesh that a
 // "ring_housing" configuration describes, checks it, writes it with its
 // boundary ids for ParaView and reports cells, DoFs and the ids found.
-#include "app/ring_housing.h"
+#include "app/ring_housing_command.h"
 
 #include <iosfwd>
 #include <string>

@@ -1,4 +1,4 @@
-#include "coupling/bearing.h"
+#include <fretsim/coupling/bearing.h>
 
 #include <fretsim/contact/hertz.h>
 
@@ -47,7 +47,13 @@ namespace fretsim::coupling
 
   double outer_ball_pass_frequency(const BearingGeometry &b, double inner_ring_speed)
   {
-    return b.ball_count * cage_speed(b, inner_ring_speed) / (2.0 * M_PI);
+    return cage_kinematics(b, inner_ring_speed).ball_pass_frequency;
+  }
+
+  CageKinematics cage_kinematics(const BearingGeometry &b, double inner_ring_speed)
+  {
+    const double cage = cage_speed(b, inner_ring_speed);
+    return {cage, b.ball_count * cage / (2.0 * M_PI)};
   }
 
   BallLoad ball_load(double stiffness, double damping, double deflection, double deflection_rate)

@@ -1,4 +1,4 @@
-#include "coupling/cosimulation.h"
+#include <fretsim/coupling/cosimulation.h>
 
 #include <arkode/arkode_arkstep.h>
 #include <nvector/nvector_serial.h>

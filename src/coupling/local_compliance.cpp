@@ -1,4 +1,4 @@
-#include "coupling/local_compliance.h"
+#include <fretsim/coupling/local_compliance.h>
 
 #include <fretsim/contact/convolution.h>
 

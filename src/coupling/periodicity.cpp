@@ -1,4 +1,4 @@
-#include "coupling/periodicity.h"
+#include <fretsim/coupling/periodicity.h>
 
 #include <algorithm>
 #include <cmath>

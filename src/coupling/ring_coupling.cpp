@@ -1,7 +1,7 @@
-#include "coupling/ring_coupling.h"
+#include <fretsim/coupling/ring_coupling.h>
 
-#include "coupling/bearing.h"
-#include "coupling/local_compliance.h"
+#include <fretsim/coupling/bearing.h>
+#include <fretsim/coupling/local_compliance.h>
 
 #include <fretsim/contact/bristle.h>
 
@@ -343,48 +343,6 @@ namespace fretsim::coupling
         out[j] += weights[0] * r[j] + weights[1] * t[j] + weights[2] * z[j];
     }
 
-    /// The paper's implicit Euler law τ = (τ_n + k_t ds) / D, D = 1 + k_t |ds| / (μp),
-    /// clamped to μp (contact::bristle_step) with, if `by_slip` is given, ∂τ/∂ds
-    /// (not symmetric) and ∂τ/∂p (μ ∂τ/∂(μp)) into `by_pressure`; `sliding_on`:
-    /// the cell's committed traction is near μp (the derivative at ds → 0 along τ_n).
-    Eigen::Vector2d bristle_law(const Eigen::Vector2d &start, const Eigen::Vector2d &slip, double mu_p,
-                                Eigen::Matrix2d *by_slip, Eigen::Vector2d *by_pressure, bool sliding_on) const
-    {
-      const double k_t = settings.tangential_stiffness, mu = settings.friction_coefficient;
-      const auto   next = contact::bristle_step(start.x(), start.y(), k_t, mu_p, slip.x(), slip.y());
-      if (by_slip == nullptr || !(mu_p > 0.0))
-        return {next.x, next.y};
-      const double          slip_length = slip.norm();
-      const double          denominator = 1.0 + k_t * slip_length / mu_p;
-      const Eigen::Vector2d numerator   = start + k_t * slip;
-      if (numerator.norm() > mu_p * denominator)
-        { // the Coulomb clamp (the pressure dropped below the stored traction's)
-          const Eigen::Vector2d unit = numerator.normalized();
-          *by_slip     = mu_p * k_t / numerator.norm() * (Eigen::Matrix2d::Identity() - unit * unit.transpose());
-          *by_pressure = mu * unit;
-        }
-      else
-        {
-          *by_slip = (k_t / denominator) * Eigen::Matrix2d::Identity();
-          // At ds = 0, where every cell starts its step, |ds| has no
-          // derivative. A cell near the Coulomb limit most likely slides on
-          // along τ_n: the one-sided derivative that way (near zero along
-          // τ_n), which only Newton's matrix sees. With the spring's k_t I
-          // there instead, Newton failed in nine of ten steps on the paper's
-          // case (4 561 steps for a ball pass against 755). "At ds = 0" is
-          // within 1 % of the slip μp/k_t that saturates a fresh bristle,
-          // where the law has moved τ by ≲ 1 % of μp.
-          if (sliding_on && k_t * slip_length <= 1e-2 * mu_p && start.norm() > 0.0)
-            *by_slip -= k_t / mu_p * start * start.normalized().transpose();
-          else if (slip_length > 0.0)
-            {
-              *by_slip -= k_t / (mu_p * denominator * denominator) * numerator * (slip / slip_length).transpose();
-              *by_pressure = (mu * k_t * slip_length / (mu_p * mu_p * denominator * denominator)) * numerator;
-            }
-        }
-      return {next.x, next.y};
-    }
-
     struct LayerPressure
     {
       double pressure = 0.0, by_penetration = 0.0; ///< p [Pa] and ∂p/∂d [Pa/m]
@@ -468,8 +426,21 @@ namespace fretsim::coupling
             if (committing || consistent)
               { // the paper's implicit Euler law over the slip so far: the update
                 // after the accepted step, or the step itself (with its derivative)
-                traction = bristle_law(Eigen::Vector2d(tau_x[c], tau_y[c]), Eigen::Vector2d(ds_x, ds_y), mu_p,
-                                       jacobian ? &by_slip : nullptr, &by_pressure, slipping[c] != 0);
+                if (jacobian)
+                  {
+                    contact::BristleStepDerivatives derivatives;
+                    const auto next = contact::bristle_step(tau_x[c], tau_y[c], k_t, mu, p, ds_x, ds_y,
+                                                            slipping[c] != 0, derivatives);
+                    traction        = Eigen::Vector2d(next.x, next.y);
+                    by_slip         = Eigen::Map<const Eigen::Matrix<double, 2, 2, Eigen::RowMajor>>(
+                      &derivatives.by_slip[0][0]);
+                    by_pressure = Eigen::Map<const Eigen::Vector2d>(derivatives.by_pressure);
+                  }
+                else
+                  {
+                    const auto next = contact::bristle_step(tau_x[c], tau_y[c], k_t, mu_p, ds_x, ds_y);
+                    traction        = Eigen::Vector2d(next.x, next.y);
+                  }
               }
             else if (slipping[c])
               { // sliding on: the traction keeps its ratio to the pressure (≥ 0.9 μ) and its direction

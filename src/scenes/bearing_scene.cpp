@@ -1,11 +1,7 @@
 #include "scenes/bearing_scene.h"
 
 #include "app/progress.h"
-#include "app/reduce_command.h"
-#include "app/ring_housing.h"
 #include "app/run_control.h"
-#include "coupling/cosimulation.h"
-#include "coupling/periodicity.h"
 #include "output/results_file.h"
 #include "output/summary.h"
 #include "scenes/figures.h"
@@ -14,7 +10,10 @@
 #include <fretsim/contact/dang_van.h>
 #include <fretsim/contact/material.h>
 #include <fretsim/contact/subsurface_stress.h>
-#include <fretsim/fem/parallel_environment.h>
+#include <fretsim/coupling/cosimulation.h>
+#include <fretsim/coupling/periodicity.h>
+#include <fretsim/models/model_source.h>
+#include <fretsim/models/reduction.h>
 #include <fretsim/reduction/reduced_model.h>
 
 #include <algorithm>
@@ -56,102 +55,12 @@ namespace fretsim::scenes
       spec.increasing = true;
       return spec;
     }
-
-    /// Reads the model file, or builds it with `fretsim reduce` when it is
-    /// missing or was made from other inputs (if allowed).
-    /// `mpi`: started on the first build and kept for the next (MPI starts
-    /// only once per process); a scene whose models are there never starts it.
-    reduction::ReducedModel load_or_build(const ModelSource &source, bool build, bool progress,
-                                          const app::SceneParameters &scene, bool &built,
-                                          std::unique_ptr<fem::ParallelEnvironment> &mpi)
-    {
-      try
-        {
-          return reduction::read_model_file(source.file, source.expected_hash);
-        }
-      catch (const reduction::ModelFileError &error)
-        {
-          if (!build)
-            scene.reject(source.file_parameter, error.what());
-          std::cerr << "bearing_housing: " << error.what() << "\n  building it with `fretsim reduce "
-                    << source.config << " -o " << source.file;
-          for (const auto &[name, value] : source.overrides)
-            std::cerr << " --set '" << name << "=" << value << "'";
-          std::cerr << "` (about 2 minutes for the 6208 ring or housing)\n";
-          app::RingHousingCommandOptions reduce;
-          reduce.config_file = source.config;
-          reduce.output      = source.file;
-          reduce.overrides   = source.overrides;
-          reduce.overrides.emplace_back("Reduction/Compare with full FE", "false");
-          reduce.progress    = progress;
-          reduce.plots       = false;
-          if (!fem::ParallelEnvironment::active())
-            mpi = std::make_unique<fem::ParallelEnvironment>();
-          app::run_reduce_command(reduce, std::cerr);
-          built = true;
-          return reduction::read_model_file(source.file, source.expected_hash);
-        }
-    }
-
-    /// The configuration named by `config_parameter` (relative to the
-    /// scene's file) and its model file (`file_parameter`; empty: results/
-    /// <configuration name>-model.h5, where `fretsim reduce` writes it).
-    ModelSource model_source(const app::SceneParameters &par, const std::string &config_parameter,
-                             const std::string &file_parameter)
-    {
-      namespace fs = std::filesystem;
-      ModelSource source;
-      source.config = (fs::path(par.file()).parent_path() / par.get(config_parameter)).lexically_normal().string();
-      if (!fs::is_regular_file(source.config))
-        par.reject(config_parameter, "no file '" + source.config + "'");
-      source.file = par.get(file_parameter);
-      if (source.file.empty())
-        source.file = (fs::path("results") / (fs::path(source.config).stem().string() + "-model.h5")).string();
-      source.file_parameter = file_parameter;
-      return source;
-    }
   } // namespace
-
-  ModelSource ring_model_source(const app::SceneParameters &par)
-  {
-    namespace fs       = std::filesystem;
-    ModelSource source = model_source(par, "Model/Reduction configuration", "Model/Model file");
-    // The basis sizes over the configuration's: a study of D_max against the
-    // ring's basis is one `--set` per run, each model in its own file.
-    std::string suffix;
-    for (const auto &[parameter, reduction, tag] :
-         {std::tuple<const char *, const char *, const char *>{"Model/Fixed-interface modes",
-                                                              "Reduction/Fixed-interface modes", "-m"},
-          {"Model/Characteristic constraint modes", "Reduction/Characteristic constraint modes", "-ncc"}})
-      if (const long count = par.get_integer(parameter); count > 0)
-        {
-          source.overrides.emplace_back(reduction, std::to_string(count));
-          suffix += tag + std::to_string(count);
-        }
-    if (!suffix.empty())
-      { // model.h5 -> model-ncc40.h5, results/ring-model.h5 -> results/ring-ncc40-model.h5
-        const fs::path file = source.file;
-        std::string    stem = file.stem().string();
-        const bool     named_default = par.get("Model/Model file").empty();
-        stem = named_default ? stem.substr(0, stem.size() - std::string("-model").size()) + suffix + "-model"
-                             : stem + suffix;
-        source.file = (file.parent_path() / (stem + file.extension().string())).string();
-      }
-    source.expected_hash = app::reduce_input_hash(source.config, source.overrides);
-    return source;
-  }
-
-  ModelSource housing_model_source(const app::SceneParameters &par)
-  {
-    ModelSource source   = model_source(par, "Model/Housing reduction configuration", "Model/Housing model file");
-    source.expected_hash = app::reduce_input_hash(source.config);
-    return source;
-  }
 
   struct BearingHousingScene::Settings
   {
-    ModelSource                    ring_model;
-    std::optional<ModelSource>     housing_model; ///< none: the housing is rigid and fixed
+    models::ModelSource            ring_model;
+    std::optional<models::ModelSource> housing_model; ///< none: the housing is rigid and fixed
     bool                           build_model = true;
     coupling::CosimulationSettings run;
     double                         ring_poisson_ratio = 0.3;
@@ -165,12 +74,11 @@ namespace fretsim::scenes
     std::string                    in_step_bristle_law = "implicit Euler"; ///< Interface/In-step bristle law
     std::string                    stage_predictor = "cutoff order";       ///< Integrator/Stage predictor
     int                            samples_per_ball_pass = 40;
-    double                         ball_pass_frequency = 0.0;
+    coupling::CageKinematics       kinematics; ///< of Loading/Inner ring speed
     contact::StressEvaluatorSettings stress_evaluator;
     std::vector<double>              depth_layers;
-    double      bending_fatigue_limit = 0.0, torsion_fatigue_limit = 0.0;
-    std::string residual_stress;
-    int         warmup_cycles = 1;
+    contact::DangVanConstants      dang_van_constants;
+    contact::DangVanSettings       dang_van;
   };
 
   std::vector<app::ParameterSpec> BearingHousingScene::parameter_specs()
@@ -186,7 +94,7 @@ namespace fretsim::scenes
       Spec::integer_range("Model/Characteristic constraint modes", "0",
                           "n_cc of the ring's model over its reduction configuration's (0: the configuration's): "
                           "the ring's interface shapes, which set how sharply the pressure under a ball is resolved "
-                          "and D_max with it (README). The model is built on first use into its own file [-].",
+                          "and D_max with it (docs/bearing.md). The model is built on first use into its own file [-].",
                           0, 5000),
       Spec::integer_range("Model/Fixed-interface modes", "0",
                           "m of the ring's model over its reduction configuration's (0: the configuration's) [-].", 0,
@@ -244,7 +152,7 @@ namespace fretsim::scenes
                       "implicit Euler update is committed either way. implicit Euler: that same law (bristles and "
                       "ring in one implicit step); linearised: a sticking cell a spring capped at mu p, a sliding "
                       "one at its ratio tau/p, a splitting error that the step size does not cure (D_max -1.8 % on "
-                      "the paper case, -15 % on a coarse ring) and 3.5x the steps there: README [-].",
+                      "the paper case, -15 % on a coarse ring) and 3.5x the steps there: docs/bearing.md [-].",
                       "linearised|implicit Euler"),
       Spec::selection("Interface/Local compliance", "none",
                       "Elastic half-space in series with the layer (Love's rectangles on the interface grid, "
@@ -259,27 +167,27 @@ namespace fretsim::scenes
                     "(R = K^-1 - T K_r^-1 T^T, which `fretsim reduce` stores in the model file) to the local "
                     "compliance in series with the layer, and each ball's residual displacement of the interface "
                     "to its penetration: the pressure under a ball as the full FE ring gives it, whatever the "
-                    "basis size (README). Not with Local compliance = both, which stands for the same "
+                    "basis size (docs/bearing.md). Not with Local compliance = both, which stands for the same "
                     "compliance [-].", "true|false"),
       Spec::selection("Interface/Residual flexibility at the balls", "true",
                       "With the ring's residual flexibility: its reciprocal term too (Maxwell-Betti), the interface "
                       "pressure's residual displacement of the raceway under each ball joining that ball's "
                       "deflection, from the pressure of the interface's solve in the same evaluation (one sweep; "
                       "summary.json reports its largest value and the sweep's correction). false: only the balls' "
-                      "residual displacement of the interface (README) [-].",
+                      "residual displacement of the interface (docs/bearing.md) [-].",
                       "true|false"),
       Spec::selection("Interface/Housing residual flexibility", "true",
                       "With a flexible housing (Model/Housing reduction configuration): add the part of the "
                       "housing's static compliance its reduced basis misses on its bore (R_h = K^-1 - T K_r^-1 T^T, "
                       "stored by `fretsim reduce` in its model file) in series with the layer, as the ring's "
-                      "(README) [-].", "true|false"),
+                      "(docs/bearing.md) [-].", "true|false"),
       Spec::selection("Interface/Half-space completion", "true",
                       "Complete the residual flexibilities at the short wavelengths their FE meshes lose: per "
                       "circumferential wavenumber, where the model file's residual flexibility holds less compliance "
                       "than an elastic half-space of its body's material (the exact limit at wavelengths well below "
                       "the wall thickness, which no reduced basis holds), the shortfall is added, in full below the "
                       "completion wavelength and fading out up to twice it. summary.json reports how much per "
-                      "wavenumber (README) [-].",
+                      "wavenumber (docs/bearing.md) [-].",
                       "true|false"),
       Spec::non_negative("Interface/Half-space completion wavelength", "0",
                          "lambda_c of the half-space completion: the wavelength around the circumference below which "
@@ -307,24 +215,24 @@ namespace fretsim::scenes
       Spec::integer_range("Integrator/Maximum Newton iterations", "12",
                           "Newton iterations per stage before the step is cut. The bristles' law bends within a "
                           "step and Newton's matrix is kept over steps, so it converges linearly: with ARKODE's own "
-                          "3 a third of the paper case's steps failed, with 12 a tenth to a sixth (README) [-].",
+                          "3 a third of the paper case's steps failed, with 12 a tenth to a sixth (docs/bearing.md) [-].",
                           1, 100),
       Spec::integer_range("Integrator/Maximum Newton failures per step", "10",
                           "Newton failures in one step (each retried with a smaller step and a fresh Jacobian) "
                           "before the step is given up and retried with ARKODE's own Newton start (the last "
                           "solution, 3 iterations, 10 failures) for the rest of the output interval; 10 is "
-                          "ARKODE's default (README) [-].",
+                          "ARKODE's default (docs/bearing.md) [-].",
                           1, 100),
       Spec::integer_range("Integrator/Jacobian interval", "5",
                           "Steps between fresh Jacobians of the contact forces besides those after a failed Newton "
                           "iteration (ARKODE's default 51 keeps one while the balls move the contact under it; 5: "
-                          "0.7 of the time on the paper case's four ball passes, README) [-].",
+                          "0.7 of the time on the paper case's four ball passes, docs/bearing.md) [-].",
                           1, 1000),
       Spec::selection("Integrator/Stage predictor", "cutoff order",
                       "Newton's starting guess for each implicit stage (ARKODE's predictor): trivial (the last "
                       "step's solution), maximum order (the last step's dense output), variable order (its order "
                       "falling for later stages), cutoff order (full order in the step's first half, linear after; "
-                      "a third of the trivial guess's steps on the paper case, README) [-].",
+                      "a third of the trivial guess's steps on the paper case, docs/bearing.md) [-].",
                       "trivial|maximum order|variable order|cutoff order"),
       Spec::real_range("Integrator/Newton tolerance", "0.1",
                        "Newton stops when its update is below this fraction of the error test's tolerance "
@@ -376,12 +284,12 @@ namespace fretsim::scenes
     auto      &s    = *settings;
     const auto &par = parameters;
     namespace fs    = std::filesystem;
-    s.ring_model  = ring_model_source(par);
+    s.ring_model  = models::ring_model_source(par);
     s.build_model = par.get_bool("Model/Build if missing");
 
     // The ring's geometry and material come from the reduction configuration.
-    const auto ring_parameters = app::read_ring_housing_parameters(s.ring_model.config, {});
-    const auto body            = app::read_ring_housing_request(ring_parameters);
+    const auto ring_parameters = models::read_ring_housing_parameters(s.ring_model.config, {});
+    const auto body            = models::read_ring_housing_request(ring_parameters);
     if (!body.ring.has_groove())
       par.reject("Model/Reduction configuration", "the ring in '" + s.ring_model.config +
                                                     "' has no raceway groove; a ball bearing needs one");
@@ -389,8 +297,8 @@ namespace fretsim::scenes
     const bool completion = par.get_bool("Interface/Half-space completion");
     if (!par.get("Model/Housing reduction configuration").empty())
       {
-        s.housing_model = housing_model_source(par);
-        const auto housing = app::read_housing_around(s.housing_model->config, body.ring, par.file(),
+        s.housing_model = models::housing_model_source(par);
+        const auto housing = models::read_housing_around(s.housing_model->config, body.ring, par.file(),
                                                       "Model/Housing reduction configuration");
         if (completion)
           s.housing_completion_modulus = elastic(housing.request.materials.at(fem::MaterialId::housing)).plane_modulus();
@@ -430,9 +338,9 @@ namespace fretsim::scenes
     s.run.first_ball_angle     = par.get_double("Loading/First ball angle");
     if (!(s.run.inner_ring_speed > 0.0))
       par.reject("Loading/Inner ring speed", "must be > 0: the balls must pass");
-    s.ball_pass_frequency      = coupling::outer_ball_pass_frequency(b, s.run.inner_ring_speed);
+    s.kinematics               = coupling::cage_kinematics(b, s.run.inner_ring_speed);
     s.samples_per_ball_pass    = static_cast<int>(par.get_integer("Output/Samples per ball pass"));
-    s.run.output_interval      = 1.0 / (s.ball_pass_frequency * s.samples_per_ball_pass);
+    s.run.output_interval      = 1.0 / (s.kinematics.ball_pass_frequency * s.samples_per_ball_pass);
     s.run.duration = std::round(par.get_double("Loading/Ball pass periods") * s.samples_per_ball_pass) * s.run.output_interval;
 
     auto &interface                = s.run.interface;
@@ -496,18 +404,18 @@ namespace fretsim::scenes
     s.depth_layers            = par.get_double_list("Stresses/Depth layers");
     if (s.depth_layers.empty())
       par.reject("Stresses/Depth layers", "expected at least one depth z >= 0 [m]");
-    s.bending_fatigue_limit = par.get_double("Dang Van/Bending fatigue limit");
-    s.torsion_fatigue_limit = par.get_double("Dang Van/Torsion fatigue limit");
     try
       {
-        contact::DangVanConstants::from_fatigue_limits(s.bending_fatigue_limit, s.torsion_fatigue_limit);
+        s.dang_van_constants = contact::DangVanConstants::from_fatigue_limits(
+          par.get_double("Dang Van/Bending fatigue limit"), par.get_double("Dang Van/Torsion fatigue limit"));
       }
     catch (const std::invalid_argument &error)
       {
         par.reject("Dang Van/Torsion fatigue limit", error.what());
       }
-    s.residual_stress = par.get("Dang Van/Residual stress");
-    s.warmup_cycles   = static_cast<int>(par.get_integer("Dang Van/Warm-up cycles"));
+    s.dang_van.centre          = contact::parse_residual_stress_centre(par.get("Dang Van/Residual stress"));
+    s.dang_van.steps_per_cycle = s.samples_per_ball_pass;
+    s.dang_van.warmup_cycles   = static_cast<int>(par.get_integer("Dang Van/Warm-up cycles"));
   }
 
   BearingHousingScene::~BearingHousingScene() = default;
@@ -545,6 +453,368 @@ namespace fretsim::scenes
     }
   } // namespace
 
+  namespace
+  {
+    using Settings = BearingHousingScene::Settings;
+
+    /// The ring's reduced model with the housing's joined to it, as the
+    /// co-simulation sees them, and the ring model file's input hash.
+    struct LoadedRing
+    {
+      coupling::ReducedRing ring;
+      std::string           input_hash;
+    };
+
+    /// Reads the reduced models (or builds them when missing or stale) and
+    /// joins their residual flexibilities and the housing's model to the ring.
+    LoadedRing load_ring(const Settings &s, const app::SceneParameters &parameters, models::ModelLoader &loader)
+    {
+      const reduction::ReducedModel model = loader.load(s.ring_model, parameters);
+      LoadedRing                    loaded{reduced_ring(model), model.input_hash};
+      auto                         &ring = loaded.ring;
+      if (s.ring_residual)
+        {
+          if (model.residual.empty())
+            parameters.reject("Interface/Ring residual flexibility",
+                              "false, or a model file with the ring's residual flexibility: '" + s.ring_model.file +
+                                "' has none (a free ring reduced with a raceway, an interface grid and more than six "
+                                "characteristic constraint modes has)");
+          ring.residual_pressure     = model.residual.inward_per_pressure(ring.interface_grid.cell_area());
+          ring.residual_ball         = model.residual.ball;
+          ring.residual_column_angle = model.residual.column_angle;
+          ring.residual_half_space_modulus = s.ring_completion_modulus;
+        }
+      try
+        {
+          ring.check();
+        }
+      catch (const std::invalid_argument &error)
+        {
+          parameters.reject("Model/Model file", std::string(error.what()) +
+                                                  " (rebuild it with `fretsim reduce`: it needs an interface grid and "
+                                                  "Reduction/Raceway ball positions > 0)");
+        }
+      if (!s.housing_model)
+        return loaded;
+      const auto housing_model = loader.load(*s.housing_model, parameters);
+      auto       housing       = reduced_body<coupling::ReducedHousing>(housing_model);
+      if (s.housing_residual)
+        {
+          if (housing_model.residual.empty())
+            parameters.reject("Interface/Housing residual flexibility",
+                              "false, or a housing model file with its residual flexibility: '" +
+                                s.housing_model->file +
+                                "' has none (a housing held at Reduction/Clamped surfaces with an interface grid "
+                                "on its bore has)");
+          // The bore moves out under the pressure: the gap opens.
+          housing.residual_pressure = housing_model.residual.inward_per_pressure(housing.interface_grid.cell_area());
+          for (double &value : housing.residual_pressure)
+            value = -value;
+          housing.residual_half_space_modulus = s.housing_completion_modulus;
+        }
+      try
+        {
+          ring = coupling::with_flexible_housing(ring, housing);
+        }
+      catch (const std::invalid_argument &error)
+        {
+          parameters.reject("Model/Housing model file", error.what());
+        }
+      return loaded;
+    }
+
+    /// results.h5 with the run's attributes and its declared series and fields.
+    std::unique_ptr<output::ResultsFile> open_results(const std::string &path, const Settings &s,
+                                                      const app::SceneParameters &parameters,
+                                                      const LoadedRing &loaded)
+    {
+      const auto &ring    = loaded.ring;
+      const auto &grid    = ring.interface_grid;
+      auto        results = std::make_unique<output::ResultsFile>(path, "bearing_housing", parameters.to_prm());
+      write_surface_grid(*results, grid, s.depth_layers);
+      results->set_root_attribute("interface_radius_m", ring.interface_radius);
+      results->set_root_attribute("ball_pass_frequency_hz", s.kinematics.ball_pass_frequency);
+      results->set_root_attribute("cage_frequency_hz", s.kinematics.cage_speed / (2.0 * M_PI));
+      results->set_root_attribute("ball_count", static_cast<double>(s.run.bearing.ball_count));
+      results->set_root_attribute("model_file", s.ring_model.file);
+      // modal_coordinates holds the ring's coordinates, then the housing's.
+      results->set_root_attribute("housing", s.housing_model ? "flexible" : "rigid");
+      results->set_root_attribute("local_compliance", s.local_compliance);
+      results->set_root_attribute("in_step_bristle_law", s.in_step_bristle_law);
+      results->set_root_attribute("housing_coordinates", static_cast<double>(ring.housing_coordinates));
+      if (s.housing_model)
+        results->set_root_attribute("housing_model_file", s.housing_model->file);
+      results->set_root_attribute("model_input_hash", loaded.input_hash);
+      results->set_root_attribute("stress_components",
+                                  "xx (circumferential), yy (axial), zz (radial, depth into the ring), yz, xz, xy; "
+                                  "tension positive, in the outer ring");
+      const std::vector<std::pair<std::string, std::string>> series{
+        {"interface_force_x", "N"}, {"interface_force_y", "N"}, {"ball_load_total_x", "N"}, {"ball_load_total_y", "N"},
+        {"inner_ring_displacement_y", "m"}, {"contact_fraction", "1"}, {"slip_fraction", "1"}, {"risk_max_so_far", "1"}};
+      for (const auto &[name, unit] : series)
+        results->declare_series(name, unit);
+      const std::vector<std::size_t> field{static_cast<std::size_t>(grid.ny), static_cast<std::size_t>(grid.nx)};
+      results->declare_field("pressure", "Pa", field);
+      results->declare_field("shear_x", "Pa", field);
+      results->declare_field("shear_y", "Pa", field);
+      results->declare_field("effective_friction", "1", field);
+      results->declare_field("risk", "1", {s.depth_layers.size(), field[0], field[1]});
+      results->declare_field("ball_angle", "rad", {s.run.bearing.ball_count});
+      results->declare_field("ball_load", "N", {s.run.bearing.ball_count});
+      results->declare_field("modal_coordinates", "1", {ring.n});
+      return results;
+    }
+
+    /// What the run keeps of its output times beyond results.h5.
+    struct RunRecord
+    {
+      double stress_seconds = 0.0, dang_van_seconds = 0.0, output_seconds = 0.0;
+      std::vector<std::vector<double>> pressure_history; ///< the last two ball passes
+      std::vector<double>              top_pressure, times;
+      double lower_half_pressure = 0.0, peak_pressure = 0.0, peak_ball_load = 0.0; ///< [Pa], [Pa], [N]
+    };
+
+    /// At every output time: stresses, Dang Van, a snapshot in results.h5,
+    /// the record; false once an interruption is asked for.
+    class OutputStep
+    {
+    public:
+      OutputStep(const Settings &s, const contact::SurfaceGrid &grid, contact::SubsurfaceStress &stresses,
+                 contact::DangVanField &risk, output::ResultsFile &results, app::Progress &progress)
+        : s(s)
+        , grid(grid)
+        , top_cell(grid.index(grid.nx / 4, grid.ny / 2)) // θ = 90°: the top
+        , stresses(stresses)
+        , risk(risk)
+        , results(results)
+        , progress(progress)
+      {}
+
+      bool operator()(const coupling::Snapshot &snap)
+      {
+        auto start = Clock::now();
+        stresses.evaluate(*snap.pressure, *snap.shear_x, *snap.shear_y, stress);
+        record.stress_seconds += seconds_since(start);
+        start = Clock::now();
+        risk.add_step(stress);
+        record.dang_van_seconds += seconds_since(start);
+        start = Clock::now();
+        write_snapshot(snap);
+        keep(snap);
+        record.output_seconds += seconds_since(start);
+        progress.update(++done, snap.time);
+        return !app::interrupt_requested();
+      }
+
+      RunRecord record;
+
+    private:
+      void write_snapshot(const coupling::Snapshot &snap)
+      {
+        double so_far = 0.0;
+        for (const double d : risk.risk_max())
+          so_far = std::max(so_far, d);
+        results.append_series_row({snap.interface_force_x, snap.interface_force_y, snap.ball_force_x,
+                                   snap.ball_force_y, snap.inner_displacement_y, snap.contact_fraction,
+                                   snap.slip_fraction, so_far});
+        results.append_snapshot(snap.time, {snap.pressure, snap.shear_x, snap.shear_y, &snap.effective_friction,
+                                            &risk.risk(), &snap.ball_angles, &snap.ball_loads, &snap.q});
+        results.flush();
+      }
+
+      void keep(const coupling::Snapshot &snap)
+      {
+        for (int j = 0; j < grid.ny; ++j)
+          for (int i = grid.nx / 2 + 1; i < grid.nx; ++i) // θ in (180°, 360°): the unloaded half
+            record.lower_half_pressure = std::max(record.lower_half_pressure, (*snap.pressure)[grid.index(i, j)]);
+        for (const double p : *snap.pressure)
+          record.peak_pressure = std::max(record.peak_pressure, p);
+        for (const double q : snap.ball_loads)
+          record.peak_ball_load = std::max(record.peak_ball_load, q);
+        record.pressure_history.push_back(*snap.pressure);
+        if (record.pressure_history.size() > static_cast<std::size_t>(2 * s.samples_per_ball_pass))
+          record.pressure_history.erase(record.pressure_history.begin());
+        record.top_pressure.push_back((*snap.pressure)[top_cell]);
+        record.times.push_back(snap.time);
+      }
+
+      const Settings             &s;
+      const contact::SurfaceGrid &grid;
+      const std::size_t           top_cell;
+      contact::SubsurfaceStress  &stresses;
+      contact::DangVanField      &risk;
+      output::ResultsFile        &results;
+      app::Progress              &progress;
+      contact::StressField        stress;
+      long                        done = 0;
+    };
+
+    /// Where the risk peaks, and the ball pass frequency and periodicity
+    /// measured from the settled part of the run.
+    struct RunMeasures
+    {
+      std::size_t worst = 0, worst_layer = 0;
+      int         worst_i = 0, worst_j = 0;
+      double      risk_max           = std::numeric_limits<double>::quiet_NaN();
+      double      measured_frequency = std::numeric_limits<double>::quiet_NaN();
+      double      correlation        = std::numeric_limits<double>::quiet_NaN();
+      double      periodicity        = 0.0;
+    };
+
+    RunMeasures measure(const Settings &s, const contact::SurfaceGrid &grid, const contact::DangVanField &risk,
+                        const RunRecord &record)
+    {
+      RunMeasures m;
+      const auto &risk_max = risk.risk_max();
+      for (std::size_t k = 0; k < risk_max.size(); ++k)
+        if (risk_max[k] > risk_max[m.worst])
+          m.worst = k;
+      const std::size_t cells = grid.size(), worst_cell = m.worst % cells;
+      m.worst_layer = m.worst / cells;
+      m.worst_i     = static_cast<int>(worst_cell % grid.nx);
+      m.worst_j     = static_cast<int>(worst_cell / grid.nx);
+      if (!risk_max.empty())
+        m.risk_max = risk_max[m.worst];
+      // The settled part: a quarter ball pass after the ramp. The estimate
+      // needs 2.8 ball passes of it (twice the longest lag searched).
+      const double        ball_pass = s.kinematics.ball_pass_frequency;
+      const double        settle    = s.run.ramp_time + 0.25 / ball_pass;
+      std::vector<double> settled;
+      for (std::size_t k = 0; k < record.times.size(); ++k)
+        if (record.times[k] >= settle)
+          settled.push_back(record.top_pressure[k]);
+      try
+        {
+          const double period = coupling::autocorrelation_period(settled, s.run.output_interval, 0.6 / ball_pass,
+                                                                  1.4 / ball_pass, &m.correlation);
+          m.measured_frequency = 1.0 / period;
+        }
+      catch (const std::invalid_argument &)
+        { // too short a run or a constant signal: no measurement
+        }
+      m.periodicity = coupling::periodicity_error(record.pressure_history, s.run.output_interval, 1.0 / ball_pass);
+      return m;
+    }
+
+    /// How the run ended, as results.h5 and summary.json say it.
+    std::string run_status(bool completed, const std::string &failure)
+    {
+      return completed ? "complete" : (failure.empty() ? "interrupted" : "failed");
+    }
+
+    output::Summary integrator_summary(const Settings &s, const coupling::IntegratorStatistics &stats)
+    {
+      output::Summary integrator;
+      integrator.set("method", std::string("ARKODE ARKStep DIRK order ") + std::to_string(s.run.integrator.order));
+      integrator.set("stage_predictor", s.stage_predictor);
+      integrator.set("maximum_newton_iterations", static_cast<long long>(s.run.integrator.maximum_newton_iterations));
+      integrator.set("jacobian_interval", static_cast<long long>(s.run.integrator.jacobian_interval));
+      integrator.set("steps", static_cast<long long>(stats.steps));
+      integrator.set("rhs_evaluations", static_cast<long long>(stats.rhs_evaluations));
+      integrator.set("newton_iterations", static_cast<long long>(stats.newton_iterations));
+      integrator.set("newton_convergence_failures", static_cast<long long>(stats.newton_failures));
+      integrator.set("fallbacks_to_arkode_newton_start", static_cast<long long>(stats.fallbacks));
+      integrator.set("error_test_failures", static_cast<long long>(stats.error_test_failures));
+      integrator.set("jacobian_evaluations", static_cast<long long>(stats.jacobian_evaluations));
+      integrator.set("linear_solver_setups", static_cast<long long>(stats.linear_setups));
+      integrator.set("smallest_step_s", stats.smallest_step);
+      integrator.set("largest_step_s", stats.largest_step);
+      return integrator;
+    }
+
+    /// The interface model's summary entries: local compliance, residual
+    /// flexibilities and where their half-space completion adds compliance.
+    void summarise_interface(output::Summary &summary, const Settings &s, const coupling::ReducedRing &ring,
+                             const coupling::BearingCosimulation &simulation)
+    {
+      summary.set("local_compliance", s.local_compliance);
+      summary.set("in_step_bristle_law", s.in_step_bristle_law);
+      summary.set("local_compliance_modulus_Pa", s.run.interface.local_compliance_modulus);
+      summary.set("ring_residual_flexibility", s.ring_residual);
+      summary.set("housing_residual_flexibility", s.housing_model && s.housing_residual);
+      summary.set("residual_flexibility_at_balls", s.run.pressure_residual_at_balls && !ring.residual_ball.empty());
+      summary.set("half_space_completion", ring.residual_half_space_modulus > 0.0);
+      if (const auto *local = simulation.local_compliance(); local && !local->completion_by_wavenumber().empty())
+        { // where the residual flexibilities' FE meshes lose their bodies' local compliance
+          const auto     &added = local->completion_by_wavenumber();
+          output::Summary completion;
+          completion.set("modulus_Pa", ring.residual_half_space_modulus);
+          completion.set("wavelength_m", s.run.interface.half_space_completion_wavelength);
+          const auto first = std::find_if(added.begin(), added.end(), [](double share) { return share > 0.1; });
+          completion.set("longest_wavelength_over_10_percent_m",
+                         first == added.end()
+                           ? 0.0
+                           : 2.0 * M_PI * ring.interface_radius /
+                               static_cast<double>(std::max<std::ptrdiff_t>(first - added.begin(), 1)));
+          completion.set("added_share_by_wavenumber", added);
+          summary.set_object("half_space_completion_spectrum", completion);
+        }
+      const auto &stats = simulation.statistics();
+      if (stats.raceway_residual_largest > 0.0)
+        { // the reciprocal term's size and the sweep's correction of it
+          output::Summary raceway;
+          raceway.set("largest_inward_m", stats.raceway_residual_largest);
+          raceway.set("largest_correction_m", stats.raceway_residual_largest_correction);
+          summary.set_object("raceway_residual", raceway);
+        }
+    }
+
+    /// The risk maximum's place and time, the ball pass measurement and the peaks.
+    void summarise_results(output::Summary &summary, const Settings &s, const coupling::ReducedRing &ring,
+                           const contact::DangVanField &risk, const RunRecord &record, const RunMeasures &m)
+    {
+      const double nan  = std::numeric_limits<double>::quiet_NaN();
+      const auto  &grid = ring.interface_grid;
+      summary.set("simulated_time_s", record.times.empty() ? 0.0 : record.times.back());
+      summary.set("ball_pass_frequency_hz", s.kinematics.ball_pass_frequency);
+      summary.set("ball_pass_frequency_measured_hz", m.measured_frequency);
+      summary.set("ball_pass_frequency_error", m.measured_frequency / s.kinematics.ball_pass_frequency - 1.0);
+      summary.set("ball_pass_autocorrelation", m.correlation);
+      summary.set("periodicity_error", m.periodicity);
+      summary.set("peak_pressure_Pa", record.peak_pressure);
+      summary.set("peak_ball_load_N", record.peak_ball_load);
+      summary.set("lower_half_peak_pressure_Pa", record.lower_half_pressure);
+      summary.set("risk_max", m.risk_max);
+      summary.set("risk_max_theta_deg", grid.x(m.worst_i) / ring.interface_radius * 180.0 / M_PI);
+      summary.set("risk_max_axial_m", grid.y(m.worst_j));
+      summary.set("risk_max_depth_m", s.depth_layers[m.worst_layer]);
+      summary.set("risk_max_time_s", risk.risk_max_step().empty() || risk.risk_max_step()[m.worst] < 0
+                                       ? nan
+                                       : risk.risk_max_step()[m.worst] * s.run.output_interval);
+      summary.set("risk_infinite_points", static_cast<long long>(risk.infinite_risk_max_count()));
+      summary.set("dang_van_cycles", static_cast<long long>(risk.complete_cycles()));
+    }
+
+    /// Where the wall time went, by stage, and per inner ring revolution.
+    void summarise_times(output::Summary &summary, const Settings &s, const coupling::IntegratorStatistics &stats,
+                         const RunRecord &record, double model_seconds, double run_seconds)
+    {
+      if (stats.local_compliance.solves > 0)
+        { // the pressure solve's share of the contact time (half-space, residual flexibilities), in convolutions
+          output::Summary local;
+          local.set("pressure_solves", static_cast<long long>(stats.local_compliance.solves));
+          local.set("pressure_convolutions", static_cast<long long>(stats.local_compliance.solve_convolutions));
+          local.set("jacobian_sensitivities", static_cast<long long>(stats.local_compliance.sensitivities));
+          local.set("jacobian_convolutions", static_cast<long long>(stats.local_compliance.sensitivity_convolutions));
+          local.set("jacobian_reuses", static_cast<long long>(stats.local_compliance.sensitivity_reuses));
+          summary.set_object("local_compliance_solver", local);
+        }
+      output::Summary stage_times;
+      stage_times.set("model", model_seconds);
+      stage_times.set("integrator", stats.integrator_seconds);
+      stage_times.set("contact", stats.contact_seconds);
+      stage_times.set("stresses", record.stress_seconds);
+      stage_times.set("dang_van", record.dang_van_seconds);
+      stage_times.set("output", record.output_seconds);
+      stage_times.set("run", run_seconds);
+      summary.set_object("stage_times_s", stage_times);
+      const double revolution = 2.0 * M_PI / s.run.inner_ring_speed;
+      summary.set("seconds_per_inner_ring_revolution", record.times.empty() || record.times.back() <= 0.0
+                                                         ? std::numeric_limits<double>::quiet_NaN()
+                                                         : run_seconds * revolution / record.times.back());
+    }
+  } // namespace
+
   RunReport BearingHousingScene::run(const RunOptions &options)
   {
     const auto &s         = *settings;
@@ -553,62 +823,12 @@ namespace fretsim::scenes
     namespace fs = std::filesystem;
 
     // 1. The reduced models: read them, or build them when missing or stale.
-    bool                                      built = false;
-    std::unique_ptr<fem::ParallelEnvironment> mpi;
-    const reduction::ReducedModel model = load_or_build(s.ring_model, s.build_model, options.progress, parameters, built, mpi);
-    auto ring = reduced_ring(model);
-    if (s.ring_residual)
-      {
-        if (model.residual.empty())
-          parameters.reject("Interface/Ring residual flexibility",
-                            "false, or a model file with the ring's residual flexibility: '" + s.ring_model.file +
-                              "' has none (a free ring reduced with a raceway, an interface grid and more than six "
-                              "characteristic constraint modes has)");
-        ring.residual_pressure     = model.residual.inward_per_pressure(ring.interface_grid.cell_area());
-        ring.residual_ball         = model.residual.ball;
-        ring.residual_column_angle = model.residual.column_angle;
-        ring.residual_half_space_modulus = s.ring_completion_modulus;
-      }
-    try
-      {
-        ring.check();
-      }
-    catch (const std::invalid_argument &error)
-      {
-        parameters.reject("Model/Model file", std::string(error.what()) +
-                                                " (rebuild it with `fretsim reduce`: it needs an interface grid and "
-                                                "Reduction/Raceway ball positions > 0)");
-      }
-    if (s.housing_model)
-      {
-        const auto housing_model = load_or_build(*s.housing_model, s.build_model, options.progress, parameters, built, mpi);
-        auto       housing       = reduced_body<coupling::ReducedHousing>(housing_model);
-        if (s.housing_residual)
-          {
-            if (housing_model.residual.empty())
-              parameters.reject("Interface/Housing residual flexibility",
-                                "false, or a housing model file with its residual flexibility: '" +
-                                  s.housing_model->file +
-                                  "' has none (a housing held at Reduction/Clamped surfaces with an interface grid "
-                                  "on its bore has)");
-            // The bore moves out under the pressure: the gap opens.
-            housing.residual_pressure = housing_model.residual.inward_per_pressure(housing.interface_grid.cell_area());
-            for (double &value : housing.residual_pressure)
-              value = -value;
-            housing.residual_half_space_modulus = s.housing_completion_modulus;
-          }
-        try
-          {
-            ring = coupling::with_flexible_housing(ring, housing);
-          }
-        catch (const std::invalid_argument &error)
-          {
-            parameters.reject("Model/Housing model file", error.what());
-          }
-      }
-    mpi.reset(); // the models are built: the run needs no MPI
+    models::ModelLoader loader(s.build_model, options.progress);
+    const LoadedRing    loaded = load_ring(s, parameters, loader);
+    loader.finish(); // the models are built: the run needs no MPI
     const double model_seconds = seconds_since(run_start);
-    const auto &grid = ring.interface_grid;
+    const auto  &ring          = loaded.ring;
+    const auto  &grid          = ring.interface_grid;
 
     // 2. Stages that can fail on the model's data, before anything is written.
     std::unique_ptr<contact::SubsurfaceStress> stresses;
@@ -621,102 +841,23 @@ namespace fretsim::scenes
         parameters.reject("Stresses/Evaluator", error.what());
       }
     coupling::BearingCosimulation simulation(ring, s.run);
-    const std::size_t             n_layers = s.depth_layers.size(), cells = grid.size();
-    contact::DangVanSettings      dang_van;
-    dang_van.centre          = contact::parse_residual_stress_centre(s.residual_stress);
-    dang_van.steps_per_cycle = s.samples_per_ball_pass;
-    dang_van.warmup_cycles   = s.warmup_cycles;
-    contact::DangVanField risk(n_layers * cells,
-                               contact::DangVanConstants::from_fatigue_limits(s.bending_fatigue_limit,
-                                                                              s.torsion_fatigue_limit),
-                               dang_van);
+    contact::DangVanField         risk(s.depth_layers.size() * grid.size(), s.dang_van_constants, s.dang_van);
 
     // 3. Output.
     fs::create_directories(options.output_directory);
     report.results_file = (fs::path(options.output_directory) / "results.h5").string();
     report.summary_file = (fs::path(options.output_directory) / "summary.json").string();
-    auto results_owner =
-      std::make_unique<output::ResultsFile>(report.results_file, "bearing_housing", parameters.to_prm());
-    auto &results = *results_owner;
-    write_surface_grid(results, grid, s.depth_layers);
-    results.set_root_attribute("interface_radius_m", ring.interface_radius);
-    results.set_root_attribute("ball_pass_frequency_hz", s.ball_pass_frequency);
-    results.set_root_attribute("cage_frequency_hz", coupling::cage_speed(s.run.bearing, s.run.inner_ring_speed) / (2.0 * M_PI));
-    results.set_root_attribute("ball_count", static_cast<double>(s.run.bearing.ball_count));
-    results.set_root_attribute("model_file", s.ring_model.file);
-    // modal_coordinates holds the ring's coordinates, then the housing's.
-    results.set_root_attribute("housing", s.housing_model ? "flexible" : "rigid");
-    results.set_root_attribute("local_compliance", s.local_compliance);
-    results.set_root_attribute("in_step_bristle_law", s.in_step_bristle_law);
-    results.set_root_attribute("housing_coordinates", static_cast<double>(ring.housing_coordinates));
-    if (s.housing_model)
-      results.set_root_attribute("housing_model_file", s.housing_model->file);
-    results.set_root_attribute("model_input_hash", model.input_hash);
-    results.set_root_attribute("stress_components",
-                               "xx (circumferential), yy (axial), zz (radial, depth into the ring), yz, xz, xy; "
-                               "tension positive, in the outer ring");
-    const std::vector<std::pair<std::string, std::string>> series{
-      {"interface_force_x", "N"}, {"interface_force_y", "N"}, {"ball_load_total_x", "N"}, {"ball_load_total_y", "N"},
-      {"inner_ring_displacement_y", "m"}, {"contact_fraction", "1"}, {"slip_fraction", "1"}, {"risk_max_so_far", "1"}};
-    for (const auto &[name, unit] : series)
-      results.declare_series(name, unit);
-    const std::vector<std::size_t> field{static_cast<std::size_t>(grid.ny), static_cast<std::size_t>(grid.nx)};
-    results.declare_field("pressure", "Pa", field);
-    results.declare_field("shear_x", "Pa", field);
-    results.declare_field("shear_y", "Pa", field);
-    results.declare_field("effective_friction", "1", field);
-    results.declare_field("risk", "1", {n_layers, field[0], field[1]});
-    results.declare_field("ball_angle", "rad", {s.run.bearing.ball_count});
-    results.declare_field("ball_load", "N", {s.run.bearing.ball_count});
-    results.declare_field("modal_coordinates", "1", {ring.n});
+    auto results = open_results(report.results_file, s, parameters, loaded);
 
     // 4. The run: at every output time stresses, Dang Van, a snapshot.
-    double                           stress_seconds = 0.0, dang_van_seconds = 0.0, output_seconds = 0.0;
-    contact::StressField             stress;
-    std::vector<std::vector<double>> pressure_history;
-    std::vector<double>              top_pressure, times;
-    double                           lower_half_pressure = 0.0, peak_pressure = 0.0, peak_ball_load = 0.0;
-    std::size_t                      top_cell = grid.index(grid.nx / 4, grid.ny / 2); // θ = 90°: the top
-    const long outputs = std::lround(s.run.duration / s.run.output_interval);
-    app::Progress progress("bearing_housing", outputs + 1, options.progress);
-    long          done       = 0;
-    const auto    integrate_start = Clock::now();
-    const auto observe = [&](const coupling::Snapshot &snap) {
-      auto start = Clock::now();
-      stresses->evaluate(*snap.pressure, *snap.shear_x, *snap.shear_y, stress);
-      stress_seconds += seconds_since(start);
-      start = Clock::now();
-      risk.add_step(stress);
-      dang_van_seconds += seconds_since(start);
-      start = Clock::now();
-      double so_far = 0.0;
-      for (const double d : risk.risk_max())
-        so_far = std::max(so_far, d);
-      results.append_series_row({snap.interface_force_x, snap.interface_force_y, snap.ball_force_x, snap.ball_force_y,
-                                 snap.inner_displacement_y, snap.contact_fraction, snap.slip_fraction, so_far});
-      results.append_snapshot(snap.time, {snap.pressure, snap.shear_x, snap.shear_y, &snap.effective_friction,
-                                          &risk.risk(), &snap.ball_angles, &snap.ball_loads, &snap.q});
-      results.flush();
-      for (int j = 0; j < grid.ny; ++j)
-        for (int i = grid.nx / 2 + 1; i < grid.nx; ++i) // θ in (180°, 360°): the unloaded half
-          lower_half_pressure = std::max(lower_half_pressure, (*snap.pressure)[grid.index(i, j)]);
-      for (const double p : *snap.pressure)
-        peak_pressure = std::max(peak_pressure, p);
-      for (const double q : snap.ball_loads)
-        peak_ball_load = std::max(peak_ball_load, q);
-      pressure_history.push_back(*snap.pressure);
-      if (pressure_history.size() > static_cast<std::size_t>(2 * s.samples_per_ball_pass))
-        pressure_history.erase(pressure_history.begin());
-      top_pressure.push_back((*snap.pressure)[top_cell]);
-      times.push_back(snap.time);
-      output_seconds += seconds_since(start);
-      progress.update(++done, snap.time);
-      return !app::interrupt_requested();
-    };
+    app::Progress progress("bearing_housing", std::lround(s.run.duration / s.run.output_interval) + 1,
+                           options.progress);
+    OutputStep  output_step(s, grid, *stresses, risk, *results, progress);
+    const auto  integrate_start = Clock::now();
     std::string failure;
     try
       {
-        report.completed = simulation.run(observe);
+        report.completed = simulation.run([&](const coupling::Snapshot &snap) { return output_step(snap); });
       }
     catch (const std::runtime_error &error)
       {
@@ -724,163 +865,57 @@ namespace fretsim::scenes
         report.completed = false;
       }
     progress.finish();
-    const double run_seconds = seconds_since(integrate_start);
-    const auto  &stats       = simulation.statistics();
+    const double     run_seconds = seconds_since(integrate_start);
+    const auto      &stats       = simulation.statistics();
+    RunRecord       &record      = output_step.record;
 
-    // 5. Risk maximum, ball pass frequency, periodicity.
-    const auto  &risk_max = risk.risk_max();
-    std::size_t  worst    = 0;
-    for (std::size_t k = 0; k < risk_max.size(); ++k)
-      if (risk_max[k] > risk_max[worst])
-        worst = k;
-    const std::size_t worst_layer = worst / cells, worst_cell = worst % cells;
-    const int         worst_i = static_cast<int>(worst_cell % grid.nx), worst_j = static_cast<int>(worst_cell / grid.nx);
-    const double      nan     = std::numeric_limits<double>::quiet_NaN();
-    double            measured_frequency = nan, correlation = nan;
-    {
-      // The settled part: a quarter ball pass after the ramp. The estimate
-      // needs 2.8 ball passes of it (twice the longest lag searched).
-      const double settle = s.run.ramp_time + 0.25 / s.ball_pass_frequency;
-      std::vector<double> settled;
-      for (std::size_t k = 0; k < times.size(); ++k)
-        if (times[k] >= settle)
-          settled.push_back(top_pressure[k]);
-      try
-        {
-          const double period = coupling::autocorrelation_period(
-            settled, s.run.output_interval, 0.6 / s.ball_pass_frequency, 1.4 / s.ball_pass_frequency, &correlation);
-          measured_frequency = 1.0 / period;
-        }
-      catch (const std::invalid_argument &)
-        { // too short a run or a constant signal: no measurement
-        }
-    }
-    const double periodicity = coupling::periodicity_error(pressure_history, s.run.output_interval,
-                                                           1.0 / s.ball_pass_frequency);
-
-    if (!risk_max.empty())
-      results.write_dataset("/fields/risk_max", "1", {n_layers, static_cast<std::size_t>(grid.ny),
-                                                      static_cast<std::size_t>(grid.nx)},
-                            risk_max);
+    // 5. Risk maximum, ball pass frequency, periodicity; the end of results.h5.
+    const RunMeasures measures = measure(s, grid, risk, record);
+    if (!risk.risk_max().empty())
+      results->write_dataset("/fields/risk_max", "1", {s.depth_layers.size(), static_cast<std::size_t>(grid.ny),
+                                                       static_cast<std::size_t>(grid.nx)},
+                             risk.risk_max());
     // What `fretsim compare` sets a full-FE transient against: the run's
     // integrator steps and the wall time they took (integration, contact,
     // stresses, Dang Van and output of the steps).
-    results.set_root_attribute("integrator_steps", static_cast<double>(stats.steps));
-    results.set_root_attribute("run_seconds", run_seconds);
-    results.set_root_attribute("inner_ring_frequency_hz", s.run.inner_ring_speed / (2.0 * M_PI));
-    results.set_root_attribute("status", report.completed ? "complete" : (failure.empty() ? "interrupted" : "failed"));
-    results.flush();
-    auto output_start = Clock::now();
-    results.write_xdmf((fs::path(options.output_directory) / "results.xdmf").string());
-    results_owner.reset();
-    output_seconds += seconds_since(output_start);
+    results->set_root_attribute("integrator_steps", static_cast<double>(stats.steps));
+    results->set_root_attribute("run_seconds", run_seconds);
+    results->set_root_attribute("inner_ring_frequency_hz", s.run.inner_ring_speed / (2.0 * M_PI));
+    results->set_root_attribute("status", run_status(report.completed, failure));
+    results->flush();
+    const auto output_start = Clock::now();
+    results->write_xdmf((fs::path(options.output_directory) / "results.xdmf").string());
+    results.reset();
+    record.output_seconds += seconds_since(output_start);
 
+    // 6. summary.json, the report and the figures.
     output::Summary summary;
     summary.set("scene", std::string("bearing_housing"));
-    summary.set("status", std::string(report.completed ? "complete" : (failure.empty() ? "interrupted" : "failed")));
+    summary.set("status", run_status(report.completed, failure));
     if (!failure.empty())
       summary.set("error", failure);
     summary.set("model_file", s.ring_model.file);
-    summary.set("model_built", built);
+    summary.set("model_built", loader.built());
     summary.set("reduced_coordinates", static_cast<long long>(ring.n));
     summary.set("housing", std::string(s.housing_model ? "flexible" : "rigid"));
     summary.set("housing_coordinates", static_cast<long long>(ring.housing_coordinates));
-    summary.set("interface_grid_cells", static_cast<long long>(cells));
-    summary.set("local_compliance", s.local_compliance);
-    summary.set("in_step_bristle_law", s.in_step_bristle_law);
-    summary.set("local_compliance_modulus_Pa", s.run.interface.local_compliance_modulus);
-    summary.set("ring_residual_flexibility", s.ring_residual);
-    summary.set("housing_residual_flexibility", s.housing_model && s.housing_residual);
-    summary.set("residual_flexibility_at_balls", s.run.pressure_residual_at_balls && !ring.residual_ball.empty());
-    summary.set("half_space_completion", ring.residual_half_space_modulus > 0.0);
-    if (const auto *local = simulation.local_compliance(); local && !local->completion_by_wavenumber().empty())
-      { // where the residual flexibilities' FE meshes lose their bodies' local compliance
-        const auto     &added = local->completion_by_wavenumber();
-        output::Summary completion;
-        completion.set("modulus_Pa", ring.residual_half_space_modulus);
-        completion.set("wavelength_m", s.run.interface.half_space_completion_wavelength);
-        const auto first = std::find_if(added.begin(), added.end(), [](double share) { return share > 0.1; });
-        completion.set("longest_wavelength_over_10_percent_m",
-                       first == added.end() ? 0.0
-                                            : 2.0 * M_PI * ring.interface_radius /
-                                                    static_cast<double>(std::max<std::ptrdiff_t>(first - added.begin(), 1)));
-        completion.set("added_share_by_wavenumber", added);
-        summary.set_object("half_space_completion_spectrum", completion);
-      }
-    if (stats.raceway_residual_largest > 0.0)
-      { // the reciprocal term's size and the sweep's correction of it
-        output::Summary raceway;
-        raceway.set("largest_inward_m", stats.raceway_residual_largest);
-        raceway.set("largest_correction_m", stats.raceway_residual_largest_correction);
-        summary.set_object("raceway_residual", raceway);
-      }
+    summary.set("interface_grid_cells", static_cast<long long>(grid.size()));
+    summarise_interface(summary, s, ring, simulation);
     summary.set("ball_count", static_cast<long long>(s.run.bearing.ball_count));
     summary.set("pitch_diameter_m", s.run.bearing.pitch_diameter);
     summary.set("ball_contact_stiffness_N_per_m1.5", s.run.ball_stiffness);
-    summary.set("simulated_time_s", times.empty() ? 0.0 : times.back());
-    summary.set("ball_pass_frequency_hz", s.ball_pass_frequency);
-    summary.set("ball_pass_frequency_measured_hz", measured_frequency);
-    summary.set("ball_pass_frequency_error", measured_frequency / s.ball_pass_frequency - 1.0);
-    summary.set("ball_pass_autocorrelation", correlation);
-    summary.set("periodicity_error", periodicity);
-    summary.set("peak_pressure_Pa", peak_pressure);
-    summary.set("peak_ball_load_N", peak_ball_load);
-    summary.set("lower_half_peak_pressure_Pa", lower_half_pressure);
-    summary.set("risk_max", risk_max.empty() ? nan : risk_max[worst]);
-    summary.set("risk_max_theta_deg", grid.x(worst_i) / ring.interface_radius * 180.0 / M_PI);
-    summary.set("risk_max_axial_m", grid.y(worst_j));
-    summary.set("risk_max_depth_m", s.depth_layers[worst_layer]);
-    summary.set("risk_max_time_s", risk.risk_max_step().empty() || risk.risk_max_step()[worst] < 0
-                                     ? nan
-                                     : risk.risk_max_step()[worst] * s.run.output_interval);
-    summary.set("risk_infinite_points", static_cast<long long>(risk.infinite_risk_max_count()));
-    summary.set("dang_van_cycles", static_cast<long long>(risk.complete_cycles()));
-    output::Summary integrator;
-    integrator.set("method", std::string("ARKODE ARKStep DIRK order ") + std::to_string(s.run.integrator.order));
-    integrator.set("stage_predictor", s.stage_predictor);
-    integrator.set("maximum_newton_iterations", static_cast<long long>(s.run.integrator.maximum_newton_iterations));
-    integrator.set("jacobian_interval", static_cast<long long>(s.run.integrator.jacobian_interval));
-    integrator.set("steps", static_cast<long long>(stats.steps));
-    integrator.set("rhs_evaluations", static_cast<long long>(stats.rhs_evaluations));
-    integrator.set("newton_iterations", static_cast<long long>(stats.newton_iterations));
-    integrator.set("newton_convergence_failures", static_cast<long long>(stats.newton_failures));
-    integrator.set("fallbacks_to_arkode_newton_start", static_cast<long long>(stats.fallbacks));
-    integrator.set("error_test_failures", static_cast<long long>(stats.error_test_failures));
-    integrator.set("jacobian_evaluations", static_cast<long long>(stats.jacobian_evaluations));
-    integrator.set("linear_solver_setups", static_cast<long long>(stats.linear_setups));
-    integrator.set("smallest_step_s", stats.smallest_step);
-    integrator.set("largest_step_s", stats.largest_step);
-    summary.set_object("integrator", integrator);
-    if (stats.local_compliance.solves > 0)
-      { // the pressure solve's share of the contact time (half-space, residual flexibilities), in convolutions
-        output::Summary local;
-        local.set("pressure_solves", static_cast<long long>(stats.local_compliance.solves));
-        local.set("pressure_convolutions", static_cast<long long>(stats.local_compliance.solve_convolutions));
-        local.set("jacobian_sensitivities", static_cast<long long>(stats.local_compliance.sensitivities));
-        local.set("jacobian_convolutions", static_cast<long long>(stats.local_compliance.sensitivity_convolutions));
-        local.set("jacobian_reuses", static_cast<long long>(stats.local_compliance.sensitivity_reuses));
-        summary.set_object("local_compliance_solver", local);
-      }
-    output::Summary stage_times;
-    stage_times.set("model", model_seconds);
-    stage_times.set("integrator", stats.integrator_seconds);
-    stage_times.set("contact", stats.contact_seconds);
-    stage_times.set("stresses", stress_seconds);
-    stage_times.set("dang_van", dang_van_seconds);
-    stage_times.set("output", output_seconds);
-    stage_times.set("run", run_seconds);
-    summary.set_object("stage_times_s", stage_times);
-    const double revolution = 2.0 * M_PI / s.run.inner_ring_speed;
-    summary.set("seconds_per_inner_ring_revolution",
-                times.empty() || times.back() <= 0.0 ? nan : run_seconds * revolution / times.back());
+    summarise_results(summary, s, ring, risk, record, measures);
+    summary.set_object("integrator", integrator_summary(s, stats));
+    summarise_times(summary, s, stats, record, model_seconds, run_seconds);
     summary.set("wall_time_s", seconds_since(run_start));
     summary.write(report.summary_file);
 
-    report.numbers = {{"risk_max", risk_max.empty() ? nan : risk_max[worst]},
+    report.numbers = {{"risk_max", measures.risk_max},
                       {"wall_time_s", seconds_since(run_start)},
-                      {"ball_pass_frequency_error", measured_frequency / s.ball_pass_frequency - 1.0},
-                      {"peak_pressure_Pa", peak_pressure},
-                      {"lower_half_peak_pressure_Pa", lower_half_pressure}};
+                      {"ball_pass_frequency_error",
+                       measures.measured_frequency / s.kinematics.ball_pass_frequency - 1.0},
+                      {"peak_pressure_Pa", record.peak_pressure},
+                      {"lower_half_peak_pressure_Pa", record.lower_half_pressure}};
     if (options.plots)
       report.figures = run_plot_script("plot_bearing_housing.py", {options.output_directory});
     if (!failure.empty())

@@ -1,5 +1,5 @@
 #pragma once
-// The paper's §5 case (DESIGN.md §5 `paper_dgbb_housing`, issue 8): a deep
+// The paper's §5 case (docs/theory.md §5 `paper_dgbb_housing`): a deep
 // groove ball bearing whose flexible outer ring (the Craig–Bampton model of
 // `fretsim reduce`) sits in a rigid ring-shaped housing; the inner ring is
 // displaced and rotates, the cage-guided balls load the raceway, and the
@@ -14,26 +14,6 @@
 
 namespace fretsim::scenes
 {
-  /// Where a bearing_housing scene's reduced model comes from, as `run` and
-  /// `compare` resolve it: the reduction configuration (relative to the
-  /// scene's file), the model file (empty parameter: results/<configuration
-  /// name>-model.h5, where `fretsim reduce` writes it; the ring's with basis
-  /// sizes the scene sets gets them in its name, results/<name>-m<m>-ncc<n_cc>
-  /// -model.h5 or <file>-m<m>-ncc<n_cc>.h5, so that each model keeps its file), and
-  /// the reduction parameters the scene sets over the configuration's
-  /// (Model/Fixed-interface modes, Model/Characteristic constraint modes: the
-  /// ring's only). Throws app::InputError if the configuration is missing or
-  /// cannot be read.
-  struct ModelSource
-  {
-    std::string config, file;
-    std::string file_parameter; ///< the scene parameter that names the file
-    std::vector<std::pair<std::string, std::string>> overrides; ///< Reduction/... = value
-    std::string expected_hash; ///< the model file's input hash (app::reduce_input_hash of config and overrides)
-  };
-  ModelSource ring_model_source(const app::SceneParameters &scene);
-  ModelSource housing_model_source(const app::SceneParameters &scene);
-
   class BearingHousingScene : public Scene
   {
   public:
@@ -52,8 +32,10 @@ namespace fretsim::scenes
     /// summary.json and figures at the end.
     RunReport run(const RunOptions &options) override;
 
-  private:
+    /// The validated parameters, as the run uses them.
     struct Settings;
+
+  private:
     app::SceneParameters      parameters;
     std::unique_ptr<Settings> settings;
   };

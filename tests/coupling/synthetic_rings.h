@@ -1,6 +1,6 @@
 #pragma once
 // Reduced rings with known operators for the coupling tests.
-#include "coupling/ring_coupling.h"
+#include <fretsim/coupling/ring_coupling.h>
 
 #include <cmath>
 #include <random>

@@ -1,6 +1,6 @@
 // periodicity_error, the summary's measure of how far the interface fields
 // are from repeating each ball pass: exact values on constructed histories.
-#include "coupling/periodicity.h"
+#include <fretsim/coupling/periodicity.h>
 
 #include <gtest/gtest.h>
 

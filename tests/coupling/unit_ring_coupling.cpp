@@ -2,8 +2,8 @@
 // consistency of the interface and ball transfers, the analytic Jacobians
 // against finite differences, and the in-step bristle update against the
 // contact module's BristleTraction (paper eq. 4).
-#include "coupling/bearing.h"
-#include "coupling/ring_coupling.h"
+#include <fretsim/coupling/bearing.h>
+#include <fretsim/coupling/ring_coupling.h>
 #include "finite_differences.h"
 #include "synthetic_rings.h"
 
@@ -209,7 +209,7 @@ TEST(InterfaceTransfer, TheImplicitEulerStepBalancesWhatTheUpdateCommits)
   // again at the accepted state (ds = 0 from it) gives the same force to
   // rounding. The linearised step does not (its spring is stiffer than the
   // law where |τ| nears μp, and a sliding cell does not grow towards μp):
-  // the splitting error the README measures in D_max.
+  // the splitting error docs/bearing.md measures in D_max.
   const auto ring = synthetic::random_ring(5, 36, 3, 7);
   const auto q0 = mixed_state(5, 11, 1e-9), v = mixed_state(5, 12, 1e-6);
   double     mismatch[2] = {0.0, 0.0};
@@ -363,7 +363,7 @@ TEST(BallTransfer, TheRacewaysResidualInwardDisplacementActsAsLessClearance)
 
 TEST(BallContactLaw, HertzConstantsMatchTheWorkedDeepGrooveExample)
 {
-  // REFERENCES.md §1.3: ball 7.938 mm, d_m 38.5 mm, f_i 0.52, W = 1000 N,
+  // docs/references.md §1.3: ball 7.938 mm, d_m 38.5 mm, f_i 0.52, W = 1000 N,
   // E = 200 GPa, ν = 0.3 (E' = 219.78 GPa): exact δ = 11.831 µm (5 digits).
   BearingGeometry bearing;
   bearing.ball_diameter           = 7.938e-3;

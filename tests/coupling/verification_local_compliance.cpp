@@ -1,11 +1,11 @@
 // The interface's local compliance (local_compliance.h): the layer in series
 // with an elastic half-space, solved as Polonsky & Keer's bound-constrained
-// problem with the approach given. Checked against Hertz (REFERENCES.md §1),
+// problem with the approach given. Checked against Hertz (docs/references.md §1),
 // the layer-only limit, the wrap-around of the closed circumference, its
 // sensitivity's own system (on one thread and on two), and the sensitivity
 // inside the interface Jacobian against finite differences.
-#include "coupling/local_compliance.h"
-#include "coupling/ring_coupling.h"
+#include <fretsim/coupling/local_compliance.h>
+#include <fretsim/coupling/ring_coupling.h>
 #include "finite_differences.h"
 #include "synthetic_rings.h"
 
@@ -145,7 +145,7 @@ TEST(LocalCompliance, ASpherePressedIntoTheHalfSpaceCarriesHertzsLoadAndPeak)
   const double hertz_peak = 2.0 * modulus * contact_radius / (M_PI * radius);
   std::printf("against Hertz: load %.4f, peak %.4f\n", load / hertz_load, largest(pressure) / hertz_peak);
   // Tolerances: 1 %, the project's Hertz bound for the normal contact solver
-  // (tests/contact/verification_normal_contact.cpp, REFERENCES.md §1); this
+  // (tests/contact/verification_normal_contact.cpp, docs/references.md §1); this
   // 64² grid, 40 cells across the contact, gives 0.02 % (load), 0.05 % (peak).
   EXPECT_NEAR(load / hertz_load, 1.0, 0.01);
   EXPECT_NEAR(largest(pressure) / hertz_peak, 1.0, 0.01);

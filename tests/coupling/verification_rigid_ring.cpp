@@ -2,8 +2,8 @@
 // quasi-static equilibrium has an independent closed form: the ring floats in
 // the rigid housing on the Winkler layer, pushed by the cage-guided Hertz balls
 // of a displaced inner ring. Frictionless unless a test says otherwise.
-#include "coupling/cosimulation.h"
-#include "coupling/periodicity.h"
+#include <fretsim/coupling/cosimulation.h>
+#include <fretsim/coupling/periodicity.h>
 #include "synthetic_rings.h"
 
 #include <gtest/gtest.h>
@@ -177,7 +177,7 @@ TEST(RigidRingCosimulation, InterfacePressureRepeatsAtTheKinematicBallPassFreque
   const double expected = outer_ball_pass_frequency(s.bearing, s.inner_ring_speed);
   double       correlation = 0.0;
   const double period = autocorrelation_period(settled, s.output_interval, 0.6 / expected, 1.5 / expected, &correlation);
-  // Issue 8: within 1 % of the kinematic formula f_bp = Z f_i (1 - D_w/d_m) / 2.
+  // Within 1 % of the kinematic formula f_bp = Z f_i (1 - D_w/d_m) / 2.
   EXPECT_NEAR(1.0 / period / expected, 1.0, 0.01) << "measured " << 1.0 / period << " Hz, expected " << expected;
   EXPECT_GT(correlation, 0.95);
 }

@@ -15,8 +15,25 @@ namespace fretsim::contact
   /// every cell with it; a coupled solver evaluates it at trial states.
   BristleStep bristle_step(double tau_x, double tau_y, double stiffness, double mu_p, double slip_x, double slip_y);
 
+  /// bristle_step's derivatives at one cell, for a solver that couples the law
+  /// to the bodies' motion: ∂τ'/∂ds (not symmetric) and ∂τ'/∂p.
+  struct BristleStepDerivatives
+  {
+    double by_slip[2][2]  = {{0.0, 0.0}, {0.0, 0.0}}; ///< ∂τ'_i/∂ds_j [Pa/m]
+    double by_pressure[2] = {0.0, 0.0};               ///< ∂τ'_i/∂p [-]
+  };
+
+  /// bristle_step with the limit μ p from `friction_coefficient` and
+  /// `pressure`, and its derivatives (zero where μ p = 0). At ds = 0, where
+  /// every step starts, |ds| has no derivative: with `sliding_on` (the cell's
+  /// traction is near μ p) the one-sided derivative along τ is taken, since the
+  /// cell most likely slides on; otherwise the spring's, k I / D.
+  BristleStep bristle_step(double tau_x, double tau_y, double stiffness, double friction_coefficient,
+                           double pressure, double slip_x, double slip_y, bool sliding_on,
+                           BristleStepDerivatives &derivatives);
+
   /// Tangential traction by the bristle (elastic-foundation, LuGre-type) model
-  /// of the paper, eq. 4 (DESIGN.md §2.3): at every cell
+  /// of the paper, eq. 4 (docs/theory.md §2.3): at every cell
   ///     dtau/dt = k v - k |v| tau / (mu p),
   /// advanced with implicit Euler over a slip increment ds = v dt:
   ///     tau^{n+1} = (tau^n + k ds) / (1 + k |ds| / (mu p)).
@@ -29,7 +46,7 @@ namespace fretsim::contact
     /// slip_tolerance: a cell counts as slipping where |tau| >= (1 - eps) mu p.
     BristleTraction(const SurfaceGrid &grid, double stiffness, double slip_tolerance = 1e-3);
 
-    /// Mindlin calibration (DESIGN.md §2.3): k = 8 G* / (pi a) makes the initial
+    /// Mindlin calibration (docs/theory.md §2.3): k = 8 G* / (pi a) makes the initial
     /// tangential stiffness k pi a^2 equal Mindlin's 8 G* a [Pa/m].
     static double mindlin_stiffness(double tangential_modulus, double contact_radius);
 

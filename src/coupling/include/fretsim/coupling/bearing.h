@@ -1,6 +1,6 @@
 #pragma once
 // The rigid parts of a radial deep groove ball bearing as the co-simulation
-// sees them (DESIGN.md §4): geometry, cage kinematics and the ball–raceway
+// sees them (docs/theory.md §4): geometry, cage kinematics and the ball–raceway
 // load–deflection law. SI units: m, N, rad, s.
 //
 // Balls are massless and guided by the cage: ball j sits at the cage angle
@@ -11,7 +11,7 @@
 // total elastic deflection δ along the line of centres (contact angle 0):
 //     Q = K δ^{3/2},   K = [K_i^{-2/3} + K_o^{-2/3}]^{-3/2},
 // with K_i, K_o from the exact elliptical Hertz solution of each contact
-// (Harris & Kotzalas, Rolling Bearing Analysis, §6; REFERENCES.md §1.3).
+// (Harris & Kotzalas, Rolling Bearing Analysis, §6; docs/references.md §1.3).
 // Contact damping is Hunt–Crossley: Q = K δ^{3/2} (1 + 3/2 α δ̇), never negative.
 #include <vector>
 
@@ -46,6 +46,14 @@ namespace fretsim::coupling
   double cage_speed(const BearingGeometry &bearing, double inner_ring_speed);
   /// Ball pass frequency on the outer ring, Z ω_c / 2π [Hz].
   double outer_ball_pass_frequency(const BearingGeometry &bearing, double inner_ring_speed);
+
+  /// The balls' motion with the outer ring fixed, at inner ring speed ω_i.
+  struct CageKinematics
+  {
+    double cage_speed          = 0.0; ///< ω_c [rad/s]
+    double ball_pass_frequency = 0.0; ///< on the outer ring, Z ω_c / 2π [Hz]
+  };
+  CageKinematics cage_kinematics(const BearingGeometry &bearing, double inner_ring_speed);
 
   /// Q = K δ^{3/2} (1 + 3/2 α δ̇) for δ > 0, else 0, and never negative; with
   /// its derivatives by δ and δ̇.

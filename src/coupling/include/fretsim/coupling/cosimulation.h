@@ -1,5 +1,5 @@
 #pragma once
-// The bearing-in-housing co-simulation (DESIGN.md §4, issue 8): the reduced
+// The bearing-in-housing co-simulation (docs/theory.md §4): the reduced
 // flexible outer ring
 //     M_r q̈ + C_r q̇ + K_r q = Σ_j Q_j r(ψ_j) + Σ_c A (G_c T)ᵀ t_c
 // driven by the cage-guided balls of a rigid, displaced and rotating inner
@@ -8,8 +8,8 @@
 // a dense analytic Jacobian) integrates y = [q, q̇]; the bristle states are
 // committed after every accepted step (see ring_coupling.h). Structural
 // damping is stiffness-proportional, C_r = β K_r with β = 2ζ / ω_1.
-#include "coupling/bearing.h"
-#include "coupling/ring_coupling.h"
+#include <fretsim/coupling/bearing.h>
+#include <fretsim/coupling/ring_coupling.h>
 
 #include <functional>
 #include <memory>
@@ -43,28 +43,28 @@ namespace fretsim::coupling
     /// steps converges linearly (updates shrinking by 0.3-0.6 each on the
     /// paper's case): with ARKODE's 3 a third of its steps failed there (with
     /// 12 a tenth to a sixth), each failure costing a fresh matrix and a
-    /// quarter step (README).
+    /// quarter step (docs/bearing.md).
     int    maximum_newton_iterations = 12;
     /// Newton failures ARKODE allows in one step (each retried with a
     /// smaller step and a fresh matrix) before it gives up on the step, which
     /// is then retried with ARKODE's own Newton start and its own limit, 10
-    /// (the fallback, README).
+    /// (the fallback, docs/bearing.md).
     int    maximum_newton_failures = 10;
     /// Newton stops when its update's error-weighted norm is below this
     /// (ARKODE's nonlinear convergence coefficient, its default 0.1) [-].
     /// Looser saves iterations and steps, but a stiff Winkler layer alone
-    /// carries the unconverged part into the bristles (README: 0.3 already
+    /// carries the unconverged part into the bristles (docs/bearing.md: 0.3 already
     /// broke the small test ring's periodicity; with the half-space 0.5 held).
     double newton_tolerance = 0.1;
     /// The stages' starting guess. The dense output's (cutoff order) starts
     /// Newton far closer than the last solution on the paper's case, where
     /// the bristles' implicit Euler law bends within a step (k_t |ds| ~ μp):
-    /// a third of the steps for a ball pass (README).
+    /// a third of the steps for a ball pass (docs/bearing.md).
     StagePredictor predictor = StagePredictor::cutoff_order;
     /// Steps between fresh Jacobians (and Newton matrix set-ups) besides
     /// those after a failed Newton iteration. ARKODE's 51 and 20 keep a matrix
     /// while the balls move the contact under it; every 5 steps the paper
-    /// case takes two thirds of the steps for 0.7 of the time (README).
+    /// case takes two thirds of the steps for 0.7 of the time (docs/bearing.md).
     long jacobian_interval = 5;
   };
 

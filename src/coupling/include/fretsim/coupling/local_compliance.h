@@ -1,6 +1,6 @@
 #pragma once
 // The interface's local compliance: an elastic half-space (Love's uniform
-// rectangles, DESIGN.md §2.2) in series with the Winkler layer, on the
+// rectangles, docs/theory.md §2.2) in series with the Winkler layer, on the
 // unrolled interface grid (periodic around the circumference). Given each
 // cell's structural penetration d0 (fit + the ring's u_r, from the reduced
 // model), the pressure solves

@@ -1,6 +1,6 @@
 #pragma once
 // The coupling layer between the reduced flexible outer ring and the contact
-// models (DESIGN.md §4). Displacements go from modal coordinates to contact
+// models (docs/theory.md §4). Displacements go from modal coordinates to contact
 // points through the model file's operators (consistent: u = G T q), loads go
 // back through their transposes (conservative: f_q = (G T)ᵀ (traction · area)),
 // so that the work of the contact loads on the ring is the same in both
@@ -32,7 +32,7 @@
 //    work-conjugate approach r(ψ)·q of a Hertz-distributed unit ball load.
 //    Its fixed-interface modes resolve wavelengths of the order of the ring
 //    wall, not the sub-millimetre indentation, which they therefore leave to Hertz.
-#include "coupling/local_compliance.h"
+#include <fretsim/coupling/local_compliance.h>
 
 #include <fretsim/contact/surface_grid.h>
 
@@ -202,7 +202,7 @@ namespace fretsim::coupling
   /// traction does not grow towards μp within it; the committed update then
   /// differs from what the step balanced, a splitting error that does not
   /// vanish with the step size (D_max −1.8 % on the paper case, −15 % on the
-  /// suite's small ring: README), and the kicks it leaves cost steps.
+  /// suite's small ring: docs/bearing.md), and the kicks it leaves cost steps.
   class InterfaceContact
   {
   public:
@@ -218,7 +218,7 @@ namespace fretsim::coupling
     /// accept: with the ring's residual flexibility, each ball's residual
     /// u_r under the interface adds to the structural penetration (quasi-
     /// static, like the residual itself). Newton's matrix leaves out its
-    /// derivative through the ball loads (see the README).
+    /// derivative through the ball loads (see docs/bearing.md).
     void set_ball_loads(const std::vector<double> &angles, const std::vector<double> &loads);
 
     /// The pressure of the last add_forces call (trial state) [Pa].

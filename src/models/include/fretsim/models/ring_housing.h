@@ -1,26 +1,40 @@
 #pragma once
 // The ring/housing FE model that a "ring_housing" configuration describes
-// (DESIGN.md §3): its parameter table (mesh, material, and the sections of
+// (docs/theory.md §3): its parameter table (mesh, material, and the sections of
 // the commands that work on it: `fe`, `reduce`), and the mesh and materials
-// read from it. Shared by `fretsim mesh`, `fretsim fe` and `fretsim reduce`.
+// read from it. Shared by `fretsim mesh`, `fretsim fe`, `fretsim reduce` and
+// the scenes that build their reduced models.
 #include "app/parameters.h"
 
 #include <fretsim/fem/elastic_model.h>
 #include <fretsim/fem/mesh.h>
 
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
-namespace fretsim::app
+namespace fretsim::models
 {
+  using app::InputError;
+  using app::ParameterSpec;
+  using app::SceneParameters;
+
   /// The scene name of ring/housing FE configurations.
   inline const std::string ring_housing_scene = "ring_housing";
 
   /// Every parameter of a ring_housing configuration: Mesh, Ring, Housing,
   /// Divisions, Material, Housing material, and the sections of `fe` and `reduce`.
   std::vector<ParameterSpec> ring_housing_parameter_specs();
+  /// The `fe` command's section of that table (FE run/...).
+  inline const std::string fe_run_section = "FE run/";
+  std::vector<ParameterSpec> fe_run_parameter_specs();
+
+  /// The names of the FE boundary ids, as a selection pattern (a|b|c).
+  std::string boundary_names();
+  /// The boundary id of a name; none for an unknown name.
+  std::optional<fem::BoundaryId> boundary_named(const std::string &name);
 
   /// Reads a ring_housing configuration and applies --set overrides; throws
   /// InputError (file, parameter, expectation) before anything is built.
@@ -57,4 +71,4 @@ namespace fretsim::app
   /// A Gmsh file that cannot be used is an InputError naming Mesh/Mesh file.
   /// Global refinements are applied.
   fem::Mesh build_ring_housing_mesh(const RingHousingRequest &request, const std::string &config_file);
-} // namespace fretsim::app
+} // namespace fretsim::models

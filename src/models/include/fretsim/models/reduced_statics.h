@@ -3,7 +3,7 @@
 // (the reduced counterpart of fem::ShiftedStaticSolver's), on the whole model
 // or a truncation of it; and MacNeal's residual flexibility of the basis,
 // which `reduce` stores for the co-simulation and `compare` checks against
-// the full FE. Internal to the program (app).
+// the full FE.
 #include <fretsim/fem/elastic_model.h>
 #include <fretsim/fem/surface_grid_map.h>
 #include <fretsim/reduction/reduced_model.h>
@@ -18,7 +18,7 @@ namespace fretsim::fem
   class SurfaceGridMap;
 } // namespace fretsim::fem
 
-namespace fretsim::app
+namespace fretsim::models
 {
   /// The rigid-body motions of a free body: the model's first six
   /// constraint coordinates.
@@ -125,4 +125,4 @@ namespace fretsim::app
                                                 const fem::CylinderGrid &grid, double normal_stiffness, double fit,
                                                 const std::vector<double> &ball_angles,
                                                 const std::vector<double> &ball_loads);
-} // namespace fretsim::app
+} // namespace fretsim::models

@@ -1,14 +1,13 @@
-#include "app/ring_housing.h"
+#include <fretsim/models/ring_housing.h>
 
-#include "app/fe_command.h"
-#include "app/reduce_command.h"
+#include <fretsim/models/reduction.h>
 
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
 #include <sstream>
 
-namespace fretsim::app
+namespace fretsim::models
 {
   namespace
   {
@@ -196,11 +195,27 @@ namespace fretsim::app
       }
   } // namespace
 
+  std::string boundary_names()
+  {
+    std::string names;
+    for (unsigned int id = 1; id <= fem::max_boundary_id; ++id)
+      names += (names.empty() ? "" : "|") + fem::to_string(static_cast<fem::BoundaryId>(id));
+    return names;
+  }
+
+  std::optional<fem::BoundaryId> boundary_named(const std::string &name)
+  {
+    for (unsigned int id = 1; id <= fem::max_boundary_id; ++id)
+      if (fem::to_string(static_cast<fem::BoundaryId>(id)) == name)
+        return static_cast<fem::BoundaryId>(id);
+    return std::nullopt;
+  }
+
   std::vector<ParameterSpec> ring_housing_parameter_specs()
   {
     auto specs = mesh_specs();
     for (auto part : {material_specs("Material", "outer ring"), material_specs("Housing material", "housing"),
-                      fe_parameter_specs(), reduce_parameter_specs()})
+                      fe_run_parameter_specs(), reduce_parameter_specs()})
       specs.insert(specs.end(), part.begin(), part.end());
     return specs;
   }
@@ -230,4 +245,4 @@ namespace fretsim::app
     mesh.refine_globally(request.refinements);
     return mesh;
   }
-} // namespace fretsim::app
+} // namespace fretsim::models

@@ -1,7 +1,7 @@
-#include "app/reduced_statics.h"
+#include <fretsim/models/reduced_statics.h>
 
-#include "coupling/local_compliance.h"
-#include "coupling/ring_coupling.h"
+#include <fretsim/coupling/local_compliance.h>
+#include <fretsim/coupling/ring_coupling.h>
 
 #include <fretsim/fem/shifted_static_solver.h>
 #include <fretsim/fem/surface_grid_map.h>
@@ -15,7 +15,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace fretsim::app
+namespace fretsim::models
 {
   namespace
   {
@@ -352,4 +352,4 @@ namespace fretsim::app
     solution.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return solution;
   }
-} // namespace fretsim::app
+} // namespace fretsim::models

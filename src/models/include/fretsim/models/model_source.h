@@ -1,0 +1,65 @@
+#pragma once
+// Where a bearing_housing scene's reduced models come from, and reading them
+// or building them with the reduction when their file is missing or was made
+// from other inputs.
+#include "app/parameters.h"
+
+#include <fretsim/reduction/reduced_model.h>
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace fretsim::fem
+{
+  class ParallelEnvironment;
+} // namespace fretsim::fem
+
+namespace fretsim::models
+{
+  /// A reduced model as `run` and `compare` resolve it: the reduction
+  /// configuration (relative to the scene's file), the model file (empty
+  /// parameter: results/<configuration name>-model.h5, where `fretsim reduce`
+  /// writes it; the ring's with basis sizes the scene sets gets them in its
+  /// name, results/<name>-m<m>-ncc<n_cc>-model.h5 or <file>-m<m>-ncc<n_cc>.h5,
+  /// so that each model keeps its file), and the reduction parameters the
+  /// scene sets over the configuration's (Model/Fixed-interface modes,
+  /// Model/Characteristic constraint modes: the ring's only).
+  struct ModelSource
+  {
+    std::string config, file;
+    std::string file_parameter; ///< the scene parameter that names the file
+    std::vector<std::pair<std::string, std::string>> overrides; ///< Reduction/... = value
+    std::string expected_hash; ///< the model file's input hash (reduce_input_hash of config and overrides)
+  };
+
+  /// The ring's and the housing's model of a bearing_housing scene (Model/...).
+  /// Throws app::InputError if the configuration is missing or cannot be read.
+  ModelSource ring_model_source(const app::SceneParameters &scene);
+  ModelSource housing_model_source(const app::SceneParameters &scene);
+
+  /// Reads model files, building a missing or stale one first when allowed.
+  /// MPI starts on the first build and runs until finish() (it starts only
+  /// once per process); a scene whose models are there never starts it.
+  class ModelLoader
+  {
+  public:
+    ModelLoader(bool build_if_missing, bool progress);
+    ~ModelLoader();
+
+    /// The model of `source`; a file that cannot be used and may not be
+    /// built is an app::InputError of `scene`'s source.file_parameter.
+    reduction::ReducedModel load(const ModelSource &source, const app::SceneParameters &scene);
+    /// Whether load() built a model file.
+    bool built() const { return built_any; }
+    /// Stops MPI if a build started it: the run after the models needs none.
+    void finish();
+
+  private:
+    bool                                      build_if_missing;
+    bool                                      progress;
+    bool                                      built_any = false;
+    std::unique_ptr<fem::ParallelEnvironment> mpi;
+  };
+} // namespace fretsim::models

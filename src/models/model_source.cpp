@@ -1,0 +1,112 @@
+#include <fretsim/models/model_source.h>
+
+#include <fretsim/models/reduction.h>
+
+#include <fretsim/fem/parallel_environment.h>
+
+#include <filesystem>
+#include <iostream>
+#include <tuple>
+
+namespace fretsim::models
+{
+  namespace
+  {
+    /// The configuration named by `config_parameter` (relative to the
+    /// scene's file) and its model file (`file_parameter`; empty: results/
+    /// <configuration name>-model.h5, where `fretsim reduce` writes it).
+    ModelSource model_source(const app::SceneParameters &par, const std::string &config_parameter,
+                             const std::string &file_parameter)
+    {
+      namespace fs = std::filesystem;
+      ModelSource source;
+      source.config = (fs::path(par.file()).parent_path() / par.get(config_parameter)).lexically_normal().string();
+      std::error_code error; // a name too long for the file system is a missing file, not a crash
+      if (!fs::is_regular_file(source.config, error))
+        par.reject(config_parameter, "no file '" + source.config + "'" + (error ? " (" + error.message() + ")" : ""));
+      source.file = par.get(file_parameter);
+      if (source.file.empty())
+        source.file = (fs::path("results") / (fs::path(source.config).stem().string() + "-model.h5")).string();
+      source.file_parameter = file_parameter;
+      return source;
+    }
+  } // namespace
+
+  ModelSource ring_model_source(const app::SceneParameters &par)
+  {
+    namespace fs       = std::filesystem;
+    ModelSource source = model_source(par, "Model/Reduction configuration", "Model/Model file");
+    // The basis sizes over the configuration's: a study of D_max against the
+    // ring's basis is one `--set` per run, each model in its own file.
+    std::string suffix;
+    for (const auto &[parameter, reduction, tag] :
+         {std::tuple<const char *, const char *, const char *>{"Model/Fixed-interface modes",
+                                                              "Reduction/Fixed-interface modes", "-m"},
+          {"Model/Characteristic constraint modes", "Reduction/Characteristic constraint modes", "-ncc"}})
+      if (const long count = par.get_integer(parameter); count > 0)
+        {
+          source.overrides.emplace_back(reduction, std::to_string(count));
+          suffix += tag + std::to_string(count);
+        }
+    if (!suffix.empty())
+      { // model.h5 -> model-ncc40.h5, results/ring-model.h5 -> results/ring-ncc40-model.h5
+        const fs::path file = source.file;
+        std::string    stem = file.stem().string();
+        const bool     named_default = par.get("Model/Model file").empty();
+        stem = named_default ? stem.substr(0, stem.size() - std::string("-model").size()) + suffix + "-model"
+                             : stem + suffix;
+        source.file = (file.parent_path() / (stem + file.extension().string())).string();
+      }
+    source.expected_hash = reduce_input_hash(source.config, source.overrides);
+    return source;
+  }
+
+  ModelSource housing_model_source(const app::SceneParameters &par)
+  {
+    ModelSource source   = model_source(par, "Model/Housing reduction configuration", "Model/Housing model file");
+    source.expected_hash = reduce_input_hash(source.config);
+    return source;
+  }
+
+  ModelLoader::ModelLoader(bool build_if_missing, bool progress)
+    : build_if_missing(build_if_missing)
+    , progress(progress)
+  {}
+
+  ModelLoader::~ModelLoader() = default;
+
+  reduction::ReducedModel ModelLoader::load(const ModelSource &source, const app::SceneParameters &scene)
+  {
+    try
+      {
+        return reduction::read_model_file(source.file, source.expected_hash);
+      }
+    catch (const reduction::ModelFileError &error)
+      {
+        if (!build_if_missing)
+          scene.reject(source.file_parameter, error.what());
+        std::cerr << "bearing_housing: " << error.what() << "\n  building it with `fretsim reduce "
+                  << source.config << " -o " << source.file;
+        for (const auto &[name, value] : source.overrides)
+          std::cerr << " --set '" << name << "=" << value << "'";
+        std::cerr << "` (about 2 minutes for the 6208 ring or housing)\n";
+        RingHousingCommandOptions reduce;
+        reduce.config_file = source.config;
+        reduce.output      = source.file;
+        reduce.overrides   = source.overrides;
+        reduce.overrides.emplace_back("Reduction/Compare with full FE", "false");
+        reduce.progress    = progress;
+        reduce.plots       = false;
+        if (!fem::ParallelEnvironment::active())
+          mpi = std::make_unique<fem::ParallelEnvironment>();
+        write_reduced_model(reduce, std::cerr);
+        built_any = true;
+        return reduction::read_model_file(source.file, source.expected_hash);
+      }
+  }
+
+  void ModelLoader::finish()
+  {
+    mpi.reset();
+  }
+} // namespace fretsim::models

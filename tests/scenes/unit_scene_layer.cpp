@@ -1,0 +1,20 @@
+// The scenes stand without the command line above them: this test links
+// fretsim_scenes alone, so a scene that calls into src/app's commands or CLI
+// fails to link here.
+#include "scenes/scene.h"
+
+#include <gtest/gtest.h>
+
+using namespace fretsim;
+
+TEST(SceneLayer, EveryDeclaredParameterHasHelpText)
+{
+  for (const auto &name : scenes::scene_names())
+    for (const auto &spec : scenes::declare_parameters(name).specs())
+      EXPECT_FALSE(spec.doc.empty()) << name << ": " << spec.path;
+}
+
+TEST(SceneLayer, AMissingConfigurationIsAnInputError)
+{
+  EXPECT_THROW(scenes::load_scene("no-such-configuration.prm"), app::InputError);
+}

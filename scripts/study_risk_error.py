@@ -4,12 +4,12 @@ grid of N cells and on one of 4N, each with its own converged D_max and error
 estimate (risk_max_converged, risk_max_error_estimate). The bar of the coarse
 run must hold the fine run's converged value.
 
-    scripts/study_risk_error.py [-o DIR] [--cells 128] [--program build/fretsim]
+    scripts/study_risk_error.py [-o DIR] [--cells 128] [--cases paper,elliptical,titanium]
 
 Prints a table and writes DIR/risk_error.csv. The cases: the paper's (steel
-ball on steel flat), an elliptical steel contact (Ry/Rx = 3, mu = 0.3) and an
-aluminium flat under a steel ball (mu = 0.7). Two cycles of 100 steps (the
-running-mean risk peaks in the first cycle).
+ball on steel flat), an elliptical steel contact (Ry/Rx = 3, mu = 0.3) and a
+titanium flat under a steel ball (mu = 0.6, Ti-6Al-4V's fatigue limits). Two
+cycles of 100 steps (the running-mean risk peaks in the first cycle).
 """
 import argparse
 import csv
@@ -26,10 +26,10 @@ CASES = {
     "paper": {},
     "elliptical": {"Geometry/Radius x": "0.02", "Geometry/Radius y": "0.06", "Loading/Normal load": "500",
                    "Friction/Friction coefficient": "0.3", "Loading/Sliding amplitude": "1.0e-6"},
-    "aluminium": {"Materials/Lower body/Young's modulus": "70e9", "Materials/Lower body/Poisson ratio": "0.33",
-                  "Geometry/Radius x": "0.025", "Geometry/Radius y": "0.025", "Loading/Normal load": "800",
-                  "Friction/Friction coefficient": "0.7", "Loading/Sliding amplitude": "3.0e-6",
-                  "Dang Van/Bending fatigue limit": "140e6", "Dang Van/Torsion fatigue limit": "90e6"},
+    "titanium": {"Materials/Lower body/Young's modulus": "110e9", "Materials/Lower body/Poisson ratio": "0.34",
+                 "Geometry/Radius x": "0.025", "Geometry/Radius y": "0.025", "Loading/Normal load": "500",
+                 "Friction/Friction coefficient": "0.6", "Loading/Sliding amplitude": "2.0e-6",
+                 "Dang Van/Bending fatigue limit": "500e6", "Dang Van/Torsion fatigue limit": "300e6"},
 }
 
 

@@ -1,4 +1,4 @@
-// Dang Van criterion on a field of points (DESIGN.md §2.6, REFERENCES.md §5).
+// Dang Van criterion on a field of points (docs/theory.md §2.6, docs/references.md §5).
 // Everything deviatoric is carried in the 5-D orthonormal coordinates of
 // detail::deviator_coordinates: the Euclidean norm there is sqrt(s:s), so
 // means, path centres and balls are genuine ones in stress space (rotation
@@ -181,7 +181,7 @@ namespace fretsim::contact
 
     // A ball through an affinely independent set U is the MEB of a set S ⊇ U
     // exactly when its centre lies in conv(U) (barycentric weights >= 0) and it
-    // holds S (the KKT conditions of the dual QP of REFERENCES §5.2).
+    // holds S (the KKT conditions of the dual QP of docs/references.md §5.2).
     // Relative slack on squared distances for "holds": round-off of |p - c|^2
     // is ~1e-15 relative for the well-conditioned supports accepted below.
     constexpr double hold_slack     = 1e-12;

@@ -108,7 +108,7 @@ namespace fretsim::contact
     if (!(a > 0.0))
       return 0.0;
     const double r = std::hypot(x, y);
-    // Johnson (1985) §3.4, eqs. 3.41b/3.42b (REFERENCES.md §1.1).
+    // Johnson (1985) §3.4, eqs. 3.41b/3.42b (docs/references.md §1.1).
     if (r <= a)
       return M_PI * peak_pressure * (2.0 * a * a - r * r) / (4.0 * a * contact_modulus);
     return peak_pressure / (2.0 * a * contact_modulus) *
@@ -151,7 +151,7 @@ namespace fretsim::contact
     const double m = ellipticity > 1.0 ? -std::expm1(-2.0 * std::log(ellipticity)) : 0.0;
     const AssociatedIntegrals integrals = associated_integrals(m);
 
-    // Hamrock's exact form (REFERENCES.md §1.3) with E' = 2 E* and
+    // Hamrock's exact form (docs/references.md §1.3) with E' = 2 E* and
     // 1/R = 1/Rx + 1/Ry.
     const double reduced_modulus = 2.0 * contact_modulus;
     const double combined_radius = 1.0 / (1.0 / radius_x + 1.0 / radius_y);

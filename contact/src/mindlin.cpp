@@ -38,7 +38,7 @@ namespace fretsim::contact
     const double amplitude = std::abs(displacement_amplitude);
     if (!unloading)
       // Reloading is the unloading branch mirrored through the origin
-      // (Mindlin & Deresiewicz 1953; REFERENCES.md §2.2).
+      // (Mindlin & Deresiewicz 1953; docs/references.md §2.2).
       return -loop_force(-displacement, amplitude, true);
     const double force_amplitude_ = force_amplitude(amplitude);
     // Unloading from (delta*, Q*): the slip annulus re-grows from the edge with
@@ -51,7 +51,7 @@ namespace fretsim::contact
   {
     const double amplitude = std::abs(displacement_amplitude);
     const double q_star    = force_amplitude(amplitude) / mu_P;
-    // Johnson (1985) eq. 7.59 form, W = mu P delta_t (24/5)[...] (REFERENCES.md §2.2).
+    // Johnson (1985) eq. 7.59 form, W = mu P delta_t (24/5)[...] (docs/references.md §2.2).
     const double partial_slip =
       mu_P * delta_t * 24.0 / 5.0 *
       (1.0 - std::pow(1.0 - q_star, 5.0 / 3.0) -

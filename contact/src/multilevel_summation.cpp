@@ -1,5 +1,5 @@
 // MultiLevel Multi-Integration: see multilevel_summation.h and
-// shared/REFERENCES.md §6.1.
+// docs/references.md §6.1.
 //
 // Notation. Every level l has its own integer lattice: lattice point i of
 // level l+1 sits on lattice point 2i of level l in a coarsened direction (and

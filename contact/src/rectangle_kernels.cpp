@@ -7,7 +7,7 @@
 // Y-antiderivative of f, and so on. With X, Y the corner offsets and
 // rho^2 = X^2 + Y^2 + z^2:
 //
-// Pressure (Boussinesq potentials, Johnson §3.2; REFERENCES §4.2 form)
+// Pressure (Boussinesq potentials, Johnson §3.2; docs/references.md §4.2 form)
 //   V   = int 1/rho,       psi = int ln(rho + z)      (over the patch)
 //   V_z   = -[atan(X Y / (z rho))]
 //   psi_xx = [atan(X Y (rho - z) / (X^2 rho + Y^2 z))]   (atan(Y/X) - atan(Y z/(X rho)) combined)
@@ -18,7 +18,7 @@
 //   sigma_xy = -((1-2nu) psi_xy + z V_xy)/2pi,  sigma_yz = -z V_yz/2pi,  sigma_xz = -z V_xz/2pi.
 //
 // Shear traction in +x (derived here from the Cerruti point-force stresses of
-// REFERENCES §3.2). With 1/rho and Omega = z ln(rho + z) - rho (harmonic,
+// docs/references.md §3.2). With 1/rho and Omega = z ln(rho + z) - rho (harmonic,
 // Omega_x = -x/(rho + z)), the point-force stresses are
 //   sigma_xx = (-3x^3/rho^5 + (1-2nu) Omega_xyy)/2pi
 //   sigma_yy = (-3x y^2/rho^5 + (1-2nu) Omega_xxx)/2pi
@@ -286,7 +286,7 @@ namespace fretsim::contact
   {
     struct DisplacementCorner
     {
-      double x_log_y = 0.0; ///< X ln(Y + rho): [.] = int int X^2/rho^3 ... see F1, F2 in REFERENCES §4.1
+      double x_log_y = 0.0; ///< X ln(Y + rho): [.] = int int X^2/rho^3 ... see F1, F2 in docs/references.md §4.1
       double y_log_x = 0.0; ///< Y ln(X + rho)
       double rho     = 0.0;
       double f4_x    = 0.0; ///< F4(X, Y): d2/dXdY = X / rho^2

@@ -1,5 +1,5 @@
 // DC-FFT subsurface-stress evaluator (Liu, Wang & Liu, Wear 243, 2000;
-// shared/REFERENCES.md §6.2): linear convolution of the cell kernels with the
+// docs/references.md §6.2): linear convolution of the cell kernels with the
 // three loads by zero padding to 2nx x 2ny, kernels in wrap-around order.
 //
 // Per call: 3 forward r2c transforms (p, qx, qy), then for every layer and

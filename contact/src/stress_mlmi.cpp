@@ -1,6 +1,6 @@
 // MLMI subsurface stresses: the rectangle kernels (rectangle_kernels.h) of all
 // layers, components and loads summed by one MultilevelSummation
-// (multilevel_summation.h, shared/REFERENCES.md §6.1).
+// (multilevel_summation.h, docs/references.md §6.1).
 #include "stress_mlmi.h"
 
 #include <fretsim/contact/multilevel_summation.h>

@@ -15,7 +15,7 @@ namespace fretsim::contact::detail
   namespace
   {
     // The FFTW planner is not thread safe. This mutex serialises the planning
-    // done here; convolution.cpp keeps its own (see the report of issue 5: a
+    // done here; convolution.cpp keeps its own (a
     // shared planner lock would be cleaner).
     std::mutex &planner_mutex()
     {

@@ -13,7 +13,7 @@ namespace fretsim::contact::detail
   /// Influence coefficients [m/Pa] of the relative tangential displacement of
   /// the two bodies at a cell centre offset (di, dj) cells from a cell loaded
   /// by a unit uniform shear traction: the sum over both bodies of the
-  /// uniform-rectangle Cerruti coefficients (REFERENCES.md §4.1). The upper
+  /// uniform-rectangle Cerruti coefficients (docs/references.md §4.1). The upper
   /// body carries the opposite traction; reflecting it in z = 0 leaves the
   /// in-plane displacements unchanged, so both bodies' coefficients add.
   struct TangentialKernel

@@ -32,9 +32,10 @@ namespace fretsim::app
       return at == run.report.numbers.end() ? std::nan("") : at->second;
     }
 
-    /// Largest |Q - Q_reference| over the reference's last complete cycle
-    /// (the rows are the same time steps in every run) [N].
-    double loop_difference(const ModelRun &run, const ModelRun &reference)
+    /// Largest of `difference(run, reference, row)` over the reference's last
+    /// complete cycle (the rows are the same time steps in every run).
+    template <typename Difference>
+    double largest_over_last_cycle(const ModelRun &run, const ModelRun &reference, Difference difference)
     {
       const std::size_t rows = std::min(run.force_x.size(), reference.force_x.size());
       if (rows < 2)
@@ -43,24 +44,24 @@ namespace fretsim::app
       double       largest    = 0.0;
       for (std::size_t r = 0; r < rows; ++r)
         if (reference.cycle[r] == last_cycle)
-          largest = std::max(largest, std::hypot(run.force_x[r] - reference.force_x[r],
-                                                 run.force_y[r] - reference.force_y[r]));
+          largest = std::max(largest, difference(r));
       return largest;
     }
 
-    /// Largest |slip area fraction - the reference's| over the reference's
-    /// last complete cycle [-].
+    /// Largest |Q - Q_reference| over the last cycle [N].
+    double loop_difference(const ModelRun &run, const ModelRun &reference)
+    {
+      return largest_over_last_cycle(run, reference, [&](std::size_t r) {
+        return std::hypot(run.force_x[r] - reference.force_x[r], run.force_y[r] - reference.force_y[r]);
+      });
+    }
+
+    /// Largest |slip area fraction - the reference's| over the last cycle [-].
     double slip_zone_difference(const ModelRun &run, const ModelRun &reference)
     {
-      const std::size_t rows = std::min(run.slip_fraction.size(), reference.slip_fraction.size());
-      if (rows < 2)
-        return std::nan("");
-      const double last_cycle = reference.cycle[rows - 1];
-      double       largest    = 0.0;
-      for (std::size_t r = 0; r < rows; ++r)
-        if (reference.cycle[r] == last_cycle)
-          largest = std::max(largest, std::abs(run.slip_fraction[r] - reference.slip_fraction[r]));
-      return largest;
+      return largest_over_last_cycle(run, reference, [&](std::size_t r) {
+        return std::abs(run.slip_fraction[r] - reference.slip_fraction[r]);
+      });
     }
 
     std::string slug(const std::string &model)

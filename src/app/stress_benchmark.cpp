@@ -27,7 +27,7 @@ namespace fretsim::app
   {
     using Clock = std::chrono::steady_clock;
 
-    /// The paper's §4 contact (REFERENCES.md §1.2) under full sliding with a
+    /// The paper's §4 contact (docs/references.md §1.2) under full sliding with a
     /// transverse component, so that no evaluator can skip a load: p Hertzian,
     /// qx = 0.3 p, qy = 0.1 p, on a grid of 3a x 3a and layers from the surface
     /// down to 0.6a (through the depth of the Hertz maximum shear).

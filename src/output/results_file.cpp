@@ -1,4 +1,4 @@
-// results.h5 writer (DESIGN.md §6) on the HDF5 C API, used serially with the
+// results.h5 writer (docs/theory.md §6) on the HDF5 C API, used serially with the
 // default sec2 driver. Every call is checked; a failure throws
 // std::runtime_error naming the file, the object and HDF5's own reason.
 //

@@ -1,5 +1,5 @@
 #pragma once
-// results.h5 (DESIGN.md §6): grid, field snapshots and time series, flushed as
+// results.h5 (docs/theory.md §6): grid, field snapshots and time series, flushed as
 // the run goes so that a run that stops early leaves a readable file holding
 // the steps done. HDF5 types stay inside results_file.cpp.
 #include <memory>

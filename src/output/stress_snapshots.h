@@ -1,5 +1,5 @@
 #pragma once
-// Full-FE stress snapshots at sample points (DESIGN.md §3, §6): an HDF5 file
+// Full-FE stress snapshots at sample points (docs/theory.md §3, §6): an HDF5 file
 //   /points          [n_points, 3]               sample points, m
 //   /time            [n_snapshots]               s
 //   /fields/stress   [n_snapshots, n_points, 6]  Pa, Voigt order of the frame,

@@ -1,5 +1,5 @@
 #pragma once
-// summary.json: a flat record of the run's key numbers (DESIGN.md §6),
+// summary.json: a flat record of the run's key numbers (docs/theory.md §6),
 // written atomically (temporary file + rename) so it is never half-written.
 #include <string>
 #include <utility>

@@ -134,7 +134,8 @@ namespace fretsim::scenes
       auto depths = Spec::non_negative("Stresses/Depth layers", "0, 3.75e-5, 7.5e-5, 1.5e-4, 3.6e-4",
                                        "Depths z below the surface of the lower body at which the full stress "
                                        "tensor is evaluated, comma-separated; 0 is on the surface [m].");
-      depths.kind = Spec::Kind::real_list;
+      depths.kind       = Spec::Kind::real_list;
+      depths.increasing = true;
       specs.push_back(depths);
     }
     specs.push_back(Spec::integer_range("Stresses/MLMI levels", "0",
@@ -169,10 +170,62 @@ namespace fretsim::scenes
                                     "true: after the run, the same history on grids of 2 and 4 times the cell size "
                                     "(and the coarsest at half the time step) gives risk_max_converged, the limit of "
                                     "zero cell size and time step by Richardson extrapolation, and "
-                                    "risk_max_error_estimate, its error bar (about 45 % more run time). Needs "
+                                    "risk_max_error_estimate, its error bar (the reruns cost stage_times_s.risk_error_estimate). Needs "
                                     "Cells x and Cells y divisible by 4 and at least 32.",
                                     "true|false"));
     return specs;
+  }
+
+  // The largest arrays grow with the grid (Cells x × Cells y) times the depth
+  // layers, the results with the field snapshots.
+  ResourceEstimate ConcentratedContactScene::estimate_resources(const app::SceneParameters &p)
+  {
+    const double cells  = double(p.get_integer("Grid/Cells x")) * double(p.get_integer("Grid/Cells y"));
+    const double layers = double(p.get_double_list("Stresses/Depth layers").size());
+    const double steps_per_cycle = double(p.get_integer("Loading/Steps per cycle"));
+    const double steps           = double(p.get_integer("Loading/Cycles")) * steps_per_cycle;
+    const double snapshots =
+      double(p.get_integer("Output/Field snapshots per cycle")) * double(p.get_integer("Output/Field output cycles"));
+    // Per grid cell and depth layer: the stress evaluator's kernel spectra
+    // (3 loads × 6 components on the 2nx × 2ny padded grid, ~580 B), the
+    // stress fields (3 × 6 doubles), the Dang Van state (13 doubles) and a
+    // snapshot's staging (6 doubles): ~900 B. Per cell: the normal and
+    // traction solvers' fields and kernels, ~600 B. The process itself
+    // (libraries) ~150 MB. Measured at 128² and 512²: within 1.5x above.
+    ResourceEstimate estimate;
+    double           per_point = 900.0;
+    std::string      path_note;
+    if (p.get("Dang Van/Residual stress") == "hypersphere")
+      {
+        // The hypersphere keeps the deviatoric path of the last cycle.
+        per_point += 40.0 * steps_per_cycle;
+        path_note = ", the hypersphere's path of " + std::to_string(long(steps_per_cycle)) +
+                    " steps per cycle (Dang Van/Residual stress)";
+      }
+    // The superposition keeps two fields per virgin level, a quarter cycle's
+    // steps' worth of levels.
+    const bool   masing       = p.get("Friction/Traction model") == "exact masing";
+    const double virgin_bytes = masing ? cells * 16.0 * (steps_per_cycle / 4.0 + 1.0) : 0.0;
+    if (masing)
+      path_note += ", the superposition's " + std::to_string(long(steps_per_cycle / 4 + 1)) +
+                   " virgin levels (Loading/Steps per cycle / 4)";
+    // The error estimate reruns the history on a quarter of the cells while
+    // the run's own state is still held: 1.25 times the run.
+    const double estimate_factor = p.get_bool("Convergence/Risk error estimate") ? 1.25 : 1.0;
+    estimate.memory_bytes =
+      150e6 + estimate_factor * (cells * (600.0 + per_point * layers) + virgin_bytes);
+    estimate.memory_basis = "Grid/Cells x × Grid/Cells y = " + std::to_string(p.get_integer("Grid/Cells x")) +
+                            " × " + std::to_string(p.get_integer("Grid/Cells y")) + " cells on " +
+                            std::to_string(long(layers)) + " Stresses/Depth layers" + path_note;
+    // results.h5: one row of 9 series per step, and per snapshot 5 surface
+    // fields, the stress tensor and the risk on every layer; figures ~5 MB.
+    const double snapshot_bytes = 8.0 * cells * (5.0 + 7.0 * layers);
+    estimate.disk_bytes         = 5e6 + 80.0 * (steps + 1.0) + snapshots * snapshot_bytes + 8.0 * cells * layers;
+    estimate.disk_basis = std::to_string(long(snapshots)) +
+                          " field snapshots (Output/Field snapshots per cycle × Output/Field output cycles) of " +
+                          app::format_bytes(snapshot_bytes) + " each, and " + std::to_string(long(steps)) +
+                          " steps (Loading/Cycles × Loading/Steps per cycle)";
+    return estimate;
   }
 
   double ConcentratedContactScene::HertzSummary::equivalent_radius() const
@@ -466,12 +519,16 @@ namespace fretsim::scenes
     // when the half-width factor is aligned: see aligned_half_width_factor),
     // and on the coarsest grid with half the time step for the time error.
     const auto &s = settings;
+    // Short runs: FFTW's estimated plans, not measured ones (measuring costs
+    // more than these runs save).
+    contact::FrettingCase coarse = fretting_case;
+    coarse.exact.measure_fft_plans = false;
     RiskConvergence convergence;
     convergence.cells = {s.cells_x / 4, s.cells_x / 2, s.cells_x};
-    convergence.risk  = {risk_on_grid(fretting_case, s.cells_x / 4, s.cells_y / 4, s.half_width_factor).value,
-                         risk_on_grid(fretting_case, s.cells_x / 2, s.cells_y / 2, s.half_width_factor).value,
+    convergence.risk  = {risk_on_grid(coarse, s.cells_x / 4, s.cells_y / 4, s.half_width_factor).value,
+                         risk_on_grid(coarse, s.cells_x / 2, s.cells_y / 2, s.half_width_factor).value,
                          finest.value};
-    contact::FrettingCase finer_in_time = fretting_case;
+    contact::FrettingCase finer_in_time = coarse;
     finer_in_time.steps_per_cycle *= 2;
     const double coarse_half_step = risk_on_grid(finer_in_time, s.cells_x / 4, s.cells_y / 4, s.half_width_factor).value;
     // First order in the time step: the limit lies as far beyond the half
@@ -483,7 +540,7 @@ namespace fretsim::scenes
       {
         // Both models over the same short history: the running-mean risk peaks
         // in the first cycle, and the comparison needs only the same history.
-        contact::FrettingCase check = fretting_case;
+        contact::FrettingCase check = coarse;
         check.cycles                = std::min(check.cycles, 2);
         check.warmup_cycles         = std::min(check.warmup_cycles, check.cycles - 1);
         const double model          = risk_on_grid(check, s.cells_x / 4, s.cells_y / 4, s.half_width_factor).value;

@@ -1,6 +1,6 @@
 #pragma once
 // The paper's §4 case: a ball pressed on a flat and shaken tangentially by a
-// few micrometres (DESIGN.md §5 `paper_concentrated`). Contact-only: no mesh,
+// few micrometres (docs/theory.md §5 `paper_concentrated`). Contact-only: no mesh,
 // no PETSc, no MPI, no SUNDIALS.
 #include "scenes/scene.h"
 
@@ -25,6 +25,8 @@ namespace fretsim::scenes
   {
   public:
     static std::vector<app::ParameterSpec> parameter_specs();
+    /// Memory and disk of a run, from the parameters alone (builds nothing).
+    static ResourceEstimate estimate_resources(const app::SceneParameters &parameters);
 
     /// Reads and cross-checks the parameters and builds what the run needs
     /// that can fail on bad input (grid, stress evaluator); throws

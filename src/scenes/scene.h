@@ -1,5 +1,5 @@
 #pragma once
-// A scene builds only the stages it needs and runs them (DESIGN.md §5).
+// A scene builds only the stages it needs and runs them (docs/theory.md §5).
 #include "app/parameters.h"
 
 #include <map>

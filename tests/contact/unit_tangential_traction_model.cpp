@@ -7,6 +7,8 @@
 #include <fretsim/contact/partial_slip.h>
 #include <fretsim/contact/tangential_traction_model.h>
 
+#include "reference/hertz_field.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -23,14 +25,7 @@ namespace
 
   SurfaceGrid grid() { return SurfaceGrid::centred(24, 24, 1.5 * a, 1.5 * a); }
 
-  Field hertz(const SurfaceGrid &g)
-  {
-    Field p = g.zeros();
-    for (int j = 0; j < g.ny; ++j)
-      for (int i = 0; i < g.nx; ++i)
-        p[g.index(i, j)] = p0 * std::sqrt(std::max(0.0, 1.0 - (g.x(i) * g.x(i) + g.y(j) * g.y(j)) / (a * a)));
-    return p;
-  }
+  Field hertz(const SurfaceGrid &g) { return fretsim::reference::hertz_pressure_field(g, a, p0); }
 } // namespace
 
 TEST(TangentialTractionModel, NamesRoundTripAndUnknownNamesAreErrors)

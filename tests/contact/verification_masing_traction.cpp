@@ -6,6 +6,8 @@
 #include <fretsim/contact/material.h>
 #include <fretsim/contact/partial_slip.h>
 
+#include "reference/hertz_field.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -21,14 +23,7 @@ namespace
 
   SurfaceGrid grid() { return SurfaceGrid::centred(32, 32, 1.6 * a, 1.6 * a); }
 
-  Field hertz(const SurfaceGrid &g)
-  {
-    Field p = g.zeros();
-    for (int j = 0; j < g.ny; ++j)
-      for (int i = 0; i < g.nx; ++i)
-        p[g.index(i, j)] = p0 * std::sqrt(std::max(0.0, 1.0 - (g.x(i) * g.x(i) + g.y(j) * g.y(j)) / (a * a)));
-    return p;
-  }
+  Field hertz(const SurfaceGrid &g) { return fretsim::reference::hertz_pressure_field(g, a, p0); }
 
   double largest_difference(const Field &u, const Field &v)
   {

@@ -64,7 +64,7 @@ namespace fretsim::contact
   };
 
   /// Influence coefficients for uniform rectangular cells on an elastic
-  /// half-space (Love 1929; shared/REFERENCES.md §4.1), per unit load.
+  /// half-space (Love 1929; docs/references.md §4.1), per unit load.
   namespace influence
   {
     /// Combined normal displacement of both bodies from unit pressure on a

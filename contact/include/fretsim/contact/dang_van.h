@@ -1,6 +1,6 @@
 #pragma once
 // Dang Van multiaxial fatigue criterion evaluated incrementally on a field of
-// material points (DESIGN.md §2.6; shared/REFERENCES.md §5). Per point and step:
+// material points (docs/theory.md §2.6; docs/references.md §5). Per point and step:
 //   Sigma          macroscopic stress [Pa], tension positive, Voigt xx,yy,zz,yz,xz,xy
 //   S_c            centre of the deviatoric load path (see ResidualStressCentre)
 //   rho* = -S_c    stabilised mesoscopic residual stress (deviatoric)

@@ -5,7 +5,7 @@
 
 namespace fretsim::contact
 {
-  /// Tangential traction by elastic–perfectly-plastic bristles (issue 5): at
+  /// Tangential traction by elastic–perfectly-plastic bristles: at
   /// every cell an independent spring of stiffness k [Pa/m] in series with a
   /// Coulomb slider,
   ///     dtau = k ds        while |tau| < mu p   (stick),

@@ -1,6 +1,6 @@
 #pragma once
 // Closed-form Hertz solutions (Johnson 1985 §4.2; Hamrock's exact elliptic
-// form, shared/REFERENCES.md §1). SI units throughout.
+// form, docs/references.md §1). SI units throughout.
 
 namespace fretsim::contact
 {

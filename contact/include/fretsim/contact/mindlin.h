@@ -1,7 +1,7 @@
 #pragma once
 // Cattaneo–Mindlin partial slip and the Mindlin–Deresiewicz fretting loop for
 // two elastic spheres under constant normal load (Johnson 1985 §7.2-7.3;
-// shared/REFERENCES.md §2). Displacement-controlled form: given the imposed
+// docs/references.md §2). Displacement-controlled form: given the imposed
 // tangential displacement history, the tangential force Q.
 
 namespace fretsim::contact

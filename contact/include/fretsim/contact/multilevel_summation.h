@@ -1,7 +1,7 @@
 #pragma once
 // MultiLevel Multi-Integration (MLMI) of discrete convolutions on a SurfaceGrid
 // (Brandt & Lubrecht, J. Comput. Phys. 90, 1990; Venner & Lubrecht, "Multilevel
-// Methods in Lubrication", 2000; shared/REFERENCES.md §6.1).
+// Methods in Lubrication", 2000; docs/references.md §6.1).
 #include <fretsim/contact/convolution.h>
 #include <fretsim/contact/surface_grid.h>
 

@@ -16,7 +16,7 @@ namespace fretsim::contact
   };
 
   /// Frictionless normal contact of two elastic half-spaces under a given total
-  /// load (DESIGN.md §2.2): gap h = h0 - delta + u_z, u_z = K * p; p >= 0,
+  /// load (docs/theory.md §2.2): gap h = h0 - delta + u_z, u_z = K * p; p >= 0,
   /// h >= 0, p h = 0, sum p A = P. Solved by the conjugate-gradient method of
   /// Polonsky & Keer (Wear 231, 1999) with the convolution by DC-FFT.
   class NormalContactSolver

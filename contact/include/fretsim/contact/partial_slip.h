@@ -1,7 +1,7 @@
 #pragma once
 // Exact elastic quasi-static partial slip ("shift", transient rolling-free
 // tangential contact) on the SurfaceGrid, the detailed reference model of
-// DESIGN.md §2.4 in the manner of Kalker's CONTACT.
+// docs/theory.md §2.4 in the manner of Kalker's CONTACT.
 //
 // Problem solved per load step n (cell-centred, piecewise-constant tractions):
 //
@@ -31,7 +31,7 @@
 //
 // Compliance. u = C tau is the relative tangential surface displacement of the
 // lower body over the upper one, the sum of both bodies' Cerruti
-// uniform-rectangle coefficients (shared/REFERENCES.md §4.1):
+// uniform-rectangle coefficients (docs/references.md §4.1):
 //     C_xx = C_xx^lower + C_xx^upper  (u_x from tau_x), C_yy likewise, and the
 //     cross term C_xy = C_yx = -nu/(2 pi G)[rho] per body (u_y from tau_x),
 //     which is non-zero for nu != 0 and is included.
@@ -125,7 +125,7 @@ namespace fretsim::contact
     std::size_t slip_cells = 0;
   };
 
-  /// The combined tangential compliance u = C tau of both bodies (REFERENCES
+  /// The combined tangential compliance u = C tau of both bodies (docs/references.md
   /// §4.1) on a SurfaceGrid, by DC-FFT with the 2 x 2 block kernel: two forward
   /// and two inverse real FFTs per product. Exposed for tests and for callers
   /// that need the elastic tangential displacement of a traction field.

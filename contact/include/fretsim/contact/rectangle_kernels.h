@@ -2,7 +2,7 @@
 // Closed-form elastic fields of a uniform load on a rectangular patch of a
 // half-space (Love 1929; Johnson, Contact Mechanics, §3.2-3.3; the Cerruti
 // stresses integrated in closed form here, see rectangle_kernels.cpp).
-// Conventions (DESIGN.md §6, shared/REFERENCES.md §0): z >= 0 into the body,
+// Conventions (docs/theory.md §6, docs/references.md §0): z >= 0 into the body,
 // tension positive, pressure pushes into the body, shear traction acts on the
 // body's surface in +x (+y), so that sigma_xz(z = 0) = -q_x inside the patch.
 
@@ -11,7 +11,7 @@
 
 namespace fretsim::contact
 {
-  /// Voigt order xx, yy, zz, yz, xz, xy (DESIGN.md §6).
+  /// Voigt order xx, yy, zz, yz, xz, xy (docs/theory.md §6).
   enum StressComponent
   {
     xx = 0,
@@ -55,7 +55,7 @@ namespace fretsim::contact
   RectangleStresses rectangle_stresses(double x, double y, double z, double half_x, double half_y,
                                        double poisson_ratio);
 
-  /// Surface displacement [m per Pa of load] of one body (shared/REFERENCES.md
+  /// Surface displacement [m per Pa of load] of one body (docs/references.md
   /// §4.1) at (x, y, 0) relative to the patch centre; u_z positive into the body.
   struct SurfaceDisplacement
   {

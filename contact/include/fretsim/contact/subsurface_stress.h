@@ -1,6 +1,6 @@
 #pragma once
 // Subsurface stresses of piecewise-constant surface loads on a SurfaceGrid
-// (DESIGN.md §2.5): superposition of the closed-form uniform-rectangle kernels
+// (docs/theory.md §2.5): superposition of the closed-form uniform-rectangle kernels
 // (rectangle_kernels.h) with three interchangeable evaluators:
 //   "direct" O(N^2) summation per layer, the reference;
 //   "mlmi"   multilevel multi-integration (Brandt & Lubrecht 1990);
@@ -16,7 +16,7 @@ namespace fretsim::contact
 {
   /// sigma[layer][component][j][i] in Pa for the cell-centred field points on
   /// the depth layers; components in Voigt order (StressComponent), tension
-  /// positive, in the body whose surface carries the grid (DESIGN.md §6).
+  /// positive, in the body whose surface carries the grid (docs/theory.md §6).
   struct StressField
   {
     int                 n_layers = 0, ny = 0, nx = 0;

@@ -9,7 +9,7 @@ namespace fretsim::contact
   using Field = std::vector<double>;
 
   /// Uniform rectangular grid of nx × ny cells; values live at cell centres and
-  /// loads are piecewise constant over a cell (DESIGN.md §2.1). Lengths in m.
+  /// loads are piecewise constant over a cell (docs/theory.md §2.1). Lengths in m.
   struct SurfaceGrid
   {
     int    nx = 0;

@@ -2,11 +2,11 @@
 // One interface for the tangential traction models, so that
 // a scene can switch `traction model = bristle | elastoplastic bristle | exact |
 // exact masing` and feed the same stress and Dang Van stages:
-//   bristle                 BristleTraction (paper eq. 4, DESIGN.md §2.3),
+//   bristle                 BristleTraction (paper eq. 4, docs/theory.md §2.3),
 //   elastoplastic bristle   ElastoplasticBristleTraction (elastic–perfectly-
 //                           plastic bristles with a true stick zone),
 //   exact                   PartialSlipSolver (elastic half-spaces, Kalker type,
-//                           DESIGN.md §2.4),
+//                           docs/theory.md §2.4),
 //   exact masing            MasingTraction (the exact model's solution by
 //                           superposition of its first loading).
 //

@@ -84,7 +84,7 @@ TEST(Parameters, OutOfRangeValuesNameParameterAndExpectation)
          {"Normal load      ", "abc", "Normal load", "a number > 0, got 'abc'"},
          {"Pressure model", "fem", "Pressure model", "numerical|hertz"},
          {"Field snapshots per cycle", "7", "Field snapshots per cycle", "divisor"},
-         {"Depth layers", "0, -1e-5", "Stresses/Depth layers", ">= 0, got '0, -1e-5'"},
+         {"Depth layers", "0, -1e-5", "Stresses/Depth layers", ">= 0, increasing, got '0, -1e-5'"},
          // Torsion limit above the bending limit: almost surely swapped.
          {"Torsion fatigue limit", "700e6", "Dang Van/Torsion fatigue limit", "swapped"},
          {"Warm-up cycles", "8", "Dang Van/Warm-up cycles", "fewer than"},

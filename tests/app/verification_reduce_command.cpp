@@ -88,14 +88,27 @@ TEST(ReduceCommand, AHousingHeldAtItsOutsideIsReducedOnItsBore)
   // support in the full and the reduced model; the lowest 10 frequencies of
   // the clamped housing meet the required 0.5 %.
   const auto dir     = scratch_directory("reduce-housing");
+  // `reduction`'s lines join the Reduction section; one naming a parameter
+  // the section already sets replaces that line (a file sets each once).
   const auto housing = [](const std::string &reduction) {
+    std::string section = "  set Coupling surfaces = housing_bore\n  set Clamped surfaces = housing_outer\n"
+                          "  set Interface grid circumferential cells = 72\n  set Interface grid axial cells = 6\n"
+                          "  set Sample points per line = 12\n  set Fixed-interface modes = 16\n";
+    std::istringstream lines(reduction);
+    for (std::string line; std::getline(lines, line);)
+      {
+        const std::string name = line.substr(0, line.find('=') + 1);
+        const auto        at   = section.find(name);
+        if (at == std::string::npos)
+          section += line + "\n";
+        else
+          section.replace(at, section.find('\n', at) - at, line);
+      }
     return "set Scene = ring_housing\nsubsection Mesh\n  set Bodies = housing\nend\n"
            "subsection Divisions\n  set Circumferential = 24\n  set Radial housing = 1\n  set Axial = 2\n"
            "  set Axial land = 1\nend\n"
-           "subsection Reduction\n  set Coupling surfaces = housing_bore\n  set Clamped surfaces = housing_outer\n"
-           "  set Interface grid circumferential cells = 72\n  set Interface grid axial cells = 6\n"
-           "  set Sample points per line = 12\n  set Fixed-interface modes = 16\n" +
-           reduction + "end\n";
+           "subsection Reduction\n" +
+           section + "end\n";
   };
   write_text(dir / "housing.prm", housing("  set Characteristic constraint modes = 0\n  set Raceway ball positions = 0\n"));
   const auto result = run_program("reduce " + (dir / "housing.prm").string() + " -q -o " + (dir / "model.h5").string());

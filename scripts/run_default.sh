@@ -8,4 +8,5 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 build_dir="${FRETSIM_BUILD_DIR:-build}"
 scripts/setup.sh fretsim
-"$build_dir/fretsim" run configs/paper_dgbb_housing.prm -o results/paper_dgbb_housing "$@"
+# --force: this command's own folder, replaced on every run (only the files a run writes).
+"$build_dir/fretsim" run configs/paper_dgbb_housing.prm -o results/paper_dgbb_housing --force "$@"

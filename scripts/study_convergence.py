@@ -70,7 +70,7 @@ def main():
                 handle.write(text)
             start = time.time()
             result = subprocess.run([args.program, "run", scene, "-o",
-                                     os.path.join(args.output, tag), "--no-plots", "-q"],
+                                     os.path.join(args.output, tag), "--no-plots", "-q", "--force"],
                                     capture_output=True, text=True)
             seconds = time.time() - start
             if result.returncode != 0:

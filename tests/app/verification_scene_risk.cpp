@@ -144,3 +144,16 @@ TEST(SceneRisk, TheErrorEstimateNeedsGridsItCanHalveTwice)
   EXPECT_NE(result.output.find("Cells x"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("multiple of 4"), std::string::npos) << result.output;
 }
+
+TEST(SceneRisk, AZeroAmplitudeSticksAndRisksOnlyThePressure)
+{
+  // No sliding: the regime is stick, no tangential force, and D_max is the
+  // frictionless Hertz contact's (finite, below the sliding case's).
+  const std::string summary = run_paper_scene(
+    "risk-still", {{"Cells x", "32"}, {"Cells y", "32"}, {"Cycles", "2"}, {"Steps per cycle", "20"},
+                   {"Field snapshots per cycle", "0"}, {"Sliding amplitude", "0"}});
+  EXPECT_NE(summary.find("\"regime\": \"stick\""), std::string::npos) << summary;
+  EXPECT_EQ(summary_number(summary, "tangential_force_amplitude_N"), 0.0);
+  EXPECT_TRUE(std::isfinite(summary_number(summary, "risk_max")));
+  EXPECT_TRUE(std::isfinite(summary_number(summary, "risk_max_converged")));
+}

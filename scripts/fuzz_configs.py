@@ -2,7 +2,7 @@
 """Config fuzzer: mutations of every shipped configuration through the checks.
 
     scripts/fuzz_configs.py [--count 10000] [--seed 1] [--program build/fretsim]
-                            [--driver build/tests/app/test_app_unit_config_fuzzer]
+                            [--driver build/tests/test_app_unit_config_fuzzer]
 
 Each input is a shipped file of configs/ with mutations: lines deleted,
 duplicated or swapped, a parameter's value replaced by a random one, random
@@ -184,7 +184,9 @@ def main():
     parser.add_argument("--count", type=int, default=10000)
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--program", default=os.path.join(ROOT, "build", "fretsim"))
-    parser.add_argument("--driver", default=None, help="the test_app_unit_config_fuzzer executable")
+    default_driver = os.path.join(ROOT, "build", "tests", "test_app_unit_config_fuzzer")
+    parser.add_argument("--driver", default=default_driver if os.path.exists(default_driver) else None,
+                        help="the test_app_unit_config_fuzzer executable (default: the build's, if built)")
     parser.add_argument("--batch", type=int, default=500)
     parser.add_argument("--keep", action="store_true", help="keep the inputs (printed)")
     args = parser.parse_args()

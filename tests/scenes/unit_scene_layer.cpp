@@ -10,8 +10,12 @@ using namespace fretsim;
 TEST(SceneLayer, EveryDeclaredParameterHasHelpText)
 {
   for (const auto &name : scenes::scene_names())
-    for (const auto &spec : scenes::declare_parameters(name).specs())
-      EXPECT_FALSE(spec.doc.empty()) << name << ": " << spec.path;
+    {
+      // Held here: specs() refers into the parameters, which must outlive the loop.
+      const auto parameters = scenes::declare_parameters(name);
+      for (const auto &spec : parameters.specs())
+        EXPECT_FALSE(spec.doc.empty()) << name << ": " << spec.path;
+    }
 }
 
 TEST(SceneLayer, AMissingConfigurationIsAnInputError)

@@ -41,7 +41,9 @@ fi
 case $targets in *test_app_*) targets="fretsim $targets" ;; esac
 cmake --build "$build" --target $targets -j "$jobs"
 
-export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:detect_odr_violation=0"
+# Full unwinding at each allocation: the third-party frames the suppressions
+# name are otherwise lost behind libraries built without frame pointers.
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:detect_odr_violation=0:fast_unwind_on_malloc=0"
 export LSAN_OPTIONS="suppressions=$here/scripts/sanitizers/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1

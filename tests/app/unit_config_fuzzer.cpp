@@ -62,8 +62,9 @@ TEST(ConfigFuzzer, DriverOrSmallBatchGivesOnlyExitCodesZeroAndTwo)
       return;
     }
   const std::string python = FRETSIM_PYTHON;
-  if (python.empty())
-    GTEST_SKIP() << "no python3";
+  // python3 is one of the packages scripts/setup.sh installs: its absence is a
+  // broken set-up, not a reason to skip.
+  ASSERT_FALSE(python.empty()) << "CMake found no python3 (FRETSIM_PYTHON)";
   const auto log = test_files::scratch_directory("fuzz") / "fuzz.log";
   const std::string command = python + " " + FRETSIM_SOURCE_DIR + "/scripts/fuzz_configs.py --count 200 --seed 1 --batch 100" +
                               " --program " + FRETSIM_BINARY_DIR + "/fretsim --driver /proc/" +

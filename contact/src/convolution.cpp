@@ -1,5 +1,7 @@
 #include <fretsim/contact/convolution.h>
 
+#include "fftw_planner.h"
+
 #include <Eigen/Dense>
 #include <fftw3.h>
 #include <omp.h>
@@ -15,16 +17,14 @@
 
 namespace fretsim::contact
 {
+  std::mutex &detail::fftw_planner_mutex()
+  {
+    static std::mutex mutex;
+    return mutex;
+  }
+
   namespace
   {
-    // The FFTW planner and fftw_destroy_plan share global state and are not
-    // thread safe; fftw_execute_dft_* on existing plans is.
-    std::mutex &fftw_planner_mutex()
-    {
-      static std::mutex mutex;
-      return mutex;
-    }
-
     struct FftwFree
     {
       void operator()(void *pointer) const { fftw_free(pointer); }
@@ -333,7 +333,7 @@ namespace fretsim::contact
 
     ~Impl()
     {
-      std::lock_guard<std::mutex> lock(fftw_planner_mutex());
+      std::lock_guard<std::mutex> lock(detail::fftw_planner_mutex());
       for (fftw_plan plan : {forward, backward, part_forward[0], part_forward[1], part_backward[0], part_backward[1]})
         if (plan)
           fftw_destroy_plan(plan);
@@ -398,7 +398,7 @@ namespace fretsim::contact
     double       *real     = planning.real.get();
     fftw_complex *spectrum = planning.spectrum.get();
     {
-      std::lock_guard<std::mutex> lock(fftw_planner_mutex());
+      std::lock_guard<std::mutex> lock(detail::fftw_planner_mutex());
       if (d.direct_rows)
         { // ny transforms of padded_nx points, rows padded_nx (real) and
           // spectrum_nx (complex) apart

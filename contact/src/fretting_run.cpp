@@ -43,6 +43,28 @@ namespace fretsim::contact
     }
   } // namespace
 
+  bool BulkStress::is_zero() const
+  {
+    for (const auto *part : {&static_surface, &static_gradient, &amplitude_surface, &amplitude_gradient})
+      for (const double value : *part)
+        if (value != 0.0)
+          return false;
+    return true;
+  }
+
+  StressTensor BulkStress::at(double depth, double time, double period) const
+  {
+    const double wave = std::sin(2.0 * M_PI * time / period + phase);
+    const auto   component = [&](int k) {
+      return static_surface[k] + depth * static_gradient[k] + (amplitude_surface[k] + depth * amplitude_gradient[k]) * wave;
+    };
+    StressTensor tensor;
+    tensor.xx = component(0);
+    tensor.yy = component(1);
+    tensor.xy = component(2);
+    return tensor;
+  }
+
   std::pair<double, double> FrettingCase::hertz_semi_axes() const
   {
     if (radius_x == radius_y)
@@ -93,6 +115,7 @@ namespace fretsim::contact
     const auto stress_start = Clock::now();
     stresses->evaluate(contact_pressure, no_load, no_load, pressure_stress);
     total_stress = pressure_stress;
+    add_stresses(nullptr);
     times.stresses += seconds_since(stress_start);
 
     traction_model = make_tangential_traction_model(setup.traction_model, surface, setup.materials,
@@ -132,13 +155,42 @@ namespace fretsim::contact
 
     start = Clock::now();
     stresses->evaluate(no_load, traction_model->traction_x(), traction_model->traction_y(), shear_stress);
-    for (std::size_t k = 0; k < total_stress.values.size(); ++k)
-      total_stress.values[k] = pressure_stress.values[k] + shear_stress.values[k];
+    add_stresses(&shear_stress);
     times.stresses += seconds_since(start);
 
     start = Clock::now();
     dang_van->add_step(total_stress);
     times.dang_van += seconds_since(start);
+  }
+
+  void FrettingRun::add_stresses(const StressField *shear)
+  {
+    const std::size_t per_layer = surface.size();
+    const bool        bulk      = !setup.bulk_stress.is_zero();
+    for (std::size_t layer = 0; layer < setup.depth_layers.size(); ++layer)
+      {
+        const StressTensor bulk_here =
+          bulk ? setup.bulk_stress.at(setup.depth_layers[layer], time(), setup.period) : StressTensor{};
+        for (int component = 0; component < stress_component_count; ++component)
+          {
+            const std::size_t first = (layer * stress_component_count + component) * per_layer;
+            const double      add   = bulk_here[component];
+            for (std::size_t k = first; k < first + per_layer; ++k)
+              total_stress.values[k] = pressure_stress.values[k] + (shear ? shear->values[k] : 0.0) + add;
+          }
+        // von Mises: sqrt(3 J2) of the total stress.
+        const auto at = [&](int component, std::size_t cell) {
+          return total_stress.values[(layer * stress_component_count + component) * per_layer + cell];
+        };
+        for (std::size_t cell = 0; cell < per_layer; ++cell)
+          {
+            const double xx = at(0, cell), yy = at(1, cell), zz = at(2, cell);
+            const double yz = at(3, cell), xz = at(4, cell), xy = at(5, cell);
+            const double j2_times_6 = (xx - yy) * (xx - yy) + (yy - zz) * (yy - zz) + (zz - xx) * (zz - xx) +
+                                      6.0 * (yz * yz + xz * xz + xy * xy);
+            von_mises_largest = std::max(von_mises_largest, std::sqrt(0.5 * j2_times_6));
+          }
+      }
   }
 
   RiskMaximum FrettingRun::risk_maximum() const

@@ -18,6 +18,8 @@
 // 8 layers. Layers whose spectra do not fit the cache budget (default
 // 512 MiB: 16 layers at 512^2) are recomputed on every call (same result,
 // slower), so memory stays bounded.
+#include "fftw_planner.h"
+
 #include <fretsim/contact/subsurface_stress.h>
 
 #include <fftw3.h>
@@ -33,11 +35,6 @@ namespace fretsim::contact
 {
   namespace
   {
-    /// FFTW's planner is not thread safe: all planning and plan destruction in
-    /// this file go through this lock (other modules planning concurrently in
-    /// another thread are not covered).
-    std::mutex planner_mutex;
-
     constexpr int         distinct_kernels      = 15;
 
     /// (load, component) -> index of its distinct kernel.
@@ -95,7 +92,7 @@ namespace fretsim::contact
     {
     public:
       FftStress(const SurfaceGrid &grid, const std::vector<double> &depths, double poisson_ratio,
-                std::size_t spectrum_budget_bytes)
+                std::size_t spectrum_budget_bytes, bool measure_plans)
         : grid(grid), depths(depths), poisson_ratio(poisson_ratio), mx(2 * grid.nx), my(2 * grid.ny),
           cx(grid.nx + 1), quarter(static_cast<std::size_t>(grid.ny + 1) * cx)
       {
@@ -105,20 +102,21 @@ namespace fretsim::contact
           FftwArray<double>       real(real_size);
           FftwArray<fftw_complex> spectrum(complex_size);
           // FFTW_MEASURE overwrites the arrays while planning: they are scratch.
-          std::lock_guard<std::mutex> lock(planner_mutex);
-          const int ny = grid.ny;
-          kernel_forward = fftw_plan_dft_r2c_2d(my, mx, real.data, spectrum.data, FFTW_MEASURE);
+          std::lock_guard<std::mutex> lock(detail::fftw_planner_mutex());
+          const int      ny    = grid.ny;
+          const unsigned flags = measure_plans ? FFTW_MEASURE : FFTW_ESTIMATE;
+          kernel_forward = fftw_plan_dft_r2c_2d(my, mx, real.data, spectrum.data, flags);
           // ny rows of length mx -> ny rows of cx (the other my - ny rows are zero) ...
           rows_forward = fftw_plan_many_dft_r2c(1, &mx, ny, real.data, nullptr, 1, mx, spectrum.data, nullptr, 1, cx,
-                                                FFTW_MEASURE);
+                                                flags);
           // ... then cx columns of length my, in place.
           columns_forward = fftw_plan_many_dft(1, &my, cx, spectrum.data, nullptr, cx, 1, spectrum.data, nullptr, cx, 1,
-                                               FFTW_FORWARD, FFTW_MEASURE);
+                                               FFTW_FORWARD, flags);
           columns_inverse = fftw_plan_many_dft(1, &my, cx, spectrum.data, nullptr, cx, 1, spectrum.data, nullptr, cx, 1,
-                                               FFTW_BACKWARD, FFTW_MEASURE);
+                                               FFTW_BACKWARD, flags);
           // Only rows 0..ny-1 of the result are kept.
           rows_inverse = fftw_plan_many_dft_c2r(1, &mx, ny, spectrum.data, nullptr, 1, cx, real.data, nullptr, 1, mx,
-                                                FFTW_MEASURE);
+                                                flags);
         }
         if (!kernel_forward || !rows_forward || !columns_forward || !columns_inverse || !rows_inverse)
           {
@@ -207,7 +205,7 @@ namespace fretsim::contact
     private:
       void destroy_plans()
       {
-        std::lock_guard<std::mutex> lock(planner_mutex);
+        std::lock_guard<std::mutex> lock(detail::fftw_planner_mutex());
         for (fftw_plan *plan : {&kernel_forward, &rows_forward, &columns_forward, &columns_inverse, &rows_inverse})
           if (*plan)
             {
@@ -360,9 +358,10 @@ namespace fretsim::contact
   namespace detail
   {
     std::unique_ptr<SubsurfaceStress> make_fft_stress(const SurfaceGrid &grid, const std::vector<double> &depths,
-                                                      double poisson_ratio, std::size_t spectrum_budget_bytes)
+                                                      double poisson_ratio, std::size_t spectrum_budget_bytes,
+                                                      bool measure_plans)
     {
-      return std::make_unique<FftStress>(grid, depths, poisson_ratio, spectrum_budget_bytes);
+      return std::make_unique<FftStress>(grid, depths, poisson_ratio, spectrum_budget_bytes, measure_plans);
     }
   } // namespace detail
 } // namespace fretsim::contact

@@ -159,7 +159,7 @@ namespace fretsim::contact
     if (settings.method == "direct")
       return std::make_unique<DirectStress>(grid, depths, poisson_ratio);
     if (settings.method == "fft")
-      return detail::make_fft_stress(grid, depths, poisson_ratio);
+      return detail::make_fft_stress(grid, depths, poisson_ratio, std::size_t(512) << 20, settings.measure_fft_plans);
     if (settings.method == "mlmi")
       {
         if (settings.mlmi_levels < 0 || settings.mlmi_order < 1 || settings.mlmi_correction_width < 0)

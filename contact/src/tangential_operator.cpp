@@ -1,5 +1,7 @@
 #include "tangential_operator.h"
 
+#include "fftw_planner.h"
+
 #include <fretsim/contact/rectangle_kernels.h>
 
 #include <fftw3.h>
@@ -14,15 +16,6 @@ namespace fretsim::contact::detail
 {
   namespace
   {
-    // The FFTW planner is not thread safe. This mutex serialises the planning
-    // done here; convolution.cpp keeps its own (a
-    // shared planner lock would be cleaner).
-    std::mutex &planner_mutex()
-    {
-      static std::mutex mutex;
-      return mutex;
-    }
-
     struct FftwFree
     {
       void operator()(void *pointer) const { fftw_free(pointer); }
@@ -92,7 +85,7 @@ namespace fretsim::contact::detail
 
     ~Buffers()
     {
-      std::lock_guard<std::mutex> lock(planner_mutex());
+      std::lock_guard<std::mutex> lock(fftw_planner_mutex());
       if (forward)
         fftw_destroy_plan(forward);
       if (backward)
@@ -117,7 +110,7 @@ namespace fretsim::contact::detail
     b.spectrum_y    = fftw_array<fftw_complex>(b.spectrum_size);
     {
       // FFTW_MEASURE overwrites the arrays while planning: plan first.
-      std::lock_guard<std::mutex> lock(planner_mutex());
+      std::lock_guard<std::mutex> lock(fftw_planner_mutex());
       const unsigned flags = measure_plans ? FFTW_MEASURE : FFTW_ESTIMATE;
       b.forward  = fftw_plan_dft_r2c_2d(py, px, b.real_x.get(), b.spectrum_x.get(), flags);
       b.backward = fftw_plan_dft_c2r_2d(py, px, b.spectrum_x.get(), b.real_x.get(), flags);

@@ -12,12 +12,30 @@
 #include <fretsim/contact/surface_grid.h>
 #include <fretsim/contact/tangential_traction_model.h>
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
 
 namespace fretsim::contact
 {
+  /// A uniform in-plane stress state of the flat (a specimen's bending or
+  /// tension, as in a fretting-fatigue rig), superposed on the contact's
+  /// stresses: sigma(z, t) = (static_surface + z static_gradient)
+  /// + (amplitude_surface + z amplitude_gradient) sin(2 pi t / period + phase),
+  /// with the sliding delta(t) = amplitude sin(2 pi t / period). Components
+  /// xx, yy, xy [Pa] and their depth gradients [Pa/m], z >= 0 into the flat.
+  struct BulkStress
+  {
+    std::array<double, 3> static_surface{}, static_gradient{};
+    std::array<double, 3> amplitude_surface{}, amplitude_gradient{};
+    double                phase = 0.0; ///< [rad], 0: in phase with the sliding
+
+    bool is_zero() const;
+    /// The Voigt tensor (xx, yy, zz, yz, xz, xy) at depth z [m] and time t [s].
+    StressTensor at(double depth, double time, double period) const;
+  };
+
   /// Everything that defines the history, validated by the caller.
   struct FrettingCase
   {
@@ -39,6 +57,7 @@ namespace fretsim::contact
     DangVanConstants        dang_van;
     ResidualStressCentre    residual_stress = ResidualStressCentre::running_mean;
     int                     warmup_cycles   = 0;
+    BulkStress              bulk_stress;
 
     /// Hertz semi-axes (a_x, a_y) of the case [m].
     std::pair<double, double> hertz_semi_axes() const;
@@ -94,8 +113,14 @@ namespace fretsim::contact
     const FrettingStageTimes      &stage_times() const { return times; }
     long                           traction_iterations() const { return iterations_total; }
     int                            most_traction_iterations() const { return iterations_most; }
+    /// The largest von Mises stress of the total stress (contact and bulk)
+    /// over the points and the steps so far, the initial state included [Pa].
+    double von_mises_max() const { return von_mises_largest; }
 
   private:
+    /// total = pressure + shear (if given) + bulk stress at the current time.
+    void add_stresses(const StressField *shear);
+
     FrettingCase                             setup;
     SurfaceGrid                              surface;
     Field                                    contact_pressure;
@@ -104,6 +129,7 @@ namespace fretsim::contact
     std::unique_ptr<TangentialTractionModel> traction_model;
     std::unique_ptr<DangVanField>            dang_van;
     StressField                              pressure_stress, shear_stress, total_stress;
+    double                                   von_mises_largest = 0.0;
     Field                                    no_load;
     std::int64_t                             step_index           = 0;
     double                                   current_displacement = 0.0, last_displacement = 0.0;

@@ -39,6 +39,10 @@ namespace fretsim::contact
     int mlmi_levels = 0;        ///< coarse levels; 0 = automatic
     int mlmi_order  = 6;        ///< interpolation order
     int mlmi_correction_width = 0; ///< local correction half-width; 0 = automatic
+    /// fft: FFTW_MEASURE plans (faster transforms after ~0.1-1 s of planning);
+    /// false: FFTW_ESTIMATE, whose results do not depend on timing, so that
+    /// separate processes give identical values.
+    bool measure_fft_plans = true;
   };
 
   /// stresses(p, qx, qy) -> sigma on the depth layers. Loads are piecewise
@@ -63,7 +67,8 @@ namespace fretsim::contact
     /// others recomputed on every call.
     std::unique_ptr<SubsurfaceStress> make_fft_stress(const SurfaceGrid &grid, const std::vector<double> &depths,
                                                       double poisson_ratio,
-                                                      std::size_t spectrum_budget_bytes = std::size_t(512) << 20);
+                                                      std::size_t spectrum_budget_bytes = std::size_t(512) << 20,
+                                                      bool        measure_plans         = true);
     /// Throws std::invalid_argument unless every load has one value per cell.
     void check_stress_loads(const SurfaceGrid &grid, const Field &pressure, const Field &shear_x,
                             const Field &shear_y);

@@ -59,6 +59,10 @@ namespace fretsim::scenes
         specs.push_back(Spec::real_range("Materials/" + body + "/Poisson ratio", "0.3",
                                          "Poisson's ratio nu of " + which + " [-].", -1, 0.5, true, true));
       }
+    specs.push_back(Spec::non_negative("Materials/Lower body/Yield strength", "0",
+                                       "Yield strength of the flat [Pa]: the run reports yield_margin, this over "
+                                       "the largest von Mises stress (below 1 the flat yields somewhere, beyond "
+                                       "the elastic analysis). 0: not given, no margin."));
     specs.push_back(Spec::positive("Geometry/Radius x", "0.05",
                                    "Combined radius of curvature of the two surfaces in x, 1/Rx = 1/R1x + 1/R2x [m]."));
     specs.push_back(Spec::positive("Geometry/Radius y", "0.05",
@@ -102,8 +106,44 @@ namespace fretsim::scenes
     specs.push_back(Spec::real_range("Friction/Slip tolerance", "1e-3",
                                      "A point counts as slipping where |tau| >= (1 - tolerance) mu p [-].", 0, 1,
                                      true, true));
+    for (auto &spec : bulk_stress_parameter_specs())
+      specs.push_back(std::move(spec));
     for (auto &spec : numerics_parameter_specs())
       specs.push_back(std::move(spec));
+    return specs;
+  }
+
+  std::vector<app::ParameterSpec> ConcentratedContactScene::bulk_stress_parameter_specs()
+  {
+    using Spec = app::ParameterSpec;
+    std::vector<Spec> specs;
+    const std::string intro = "of the uniform in-plane stress of the flat superposed on the contact's stresses (a "
+                              "fretting-fatigue specimen's bending or tension)";
+    for (const std::string component : {"xx", "yy", "xy"})
+      {
+        specs.push_back(Spec::real_range("Bulk stress/Static " + component, "0",
+                                         "Static part of sigma_" + component + " " + intro +
+                                           ", at the surface, tension positive [Pa].",
+                                         -1e12, 1e12));
+        specs.push_back(Spec::real_range("Bulk stress/Static gradient " + component, "0",
+                                         "Change of the static sigma_" + component +
+                                           " per metre of depth into the flat (bending: -2 times the surface "
+                                           "value over the specimen's thickness) [Pa/m].",
+                                         -1e16, 1e16));
+        specs.push_back(Spec::real_range("Bulk stress/Amplitude " + component, "0",
+                                         "Cyclic amplitude of sigma_" + component + " at the surface, varying as "
+                                           "sin(2 pi t / period + phase) with the sliding's period [Pa].",
+                                         -1e12, 1e12));
+        specs.push_back(Spec::real_range("Bulk stress/Amplitude gradient " + component, "0",
+                                         "Change of the amplitude of sigma_" + component +
+                                           " per metre of depth [Pa/m].",
+                                         -1e16, 1e16));
+      }
+    specs.push_back(Spec::real_range("Bulk stress/Phase", "0",
+                                     "Phase of the cyclic bulk stress relative to the sliding, delta(t) = amplitude "
+                                     "sin(2 pi t / period); 0: in phase, as in a rig where one actuator drives both "
+                                     "[rad].",
+                                     -7, 7));
     return specs;
   }
 
@@ -116,6 +156,12 @@ namespace fretsim::scenes
     specs.push_back(Spec::real_range("Grid/Half width factor", "1.5",
                                      "Half width of the grid in each direction, in units of the Hertz semi-axis in "
                                      "that direction [-].", 1, 100, true));
+    specs.push_back(Spec::selection("Grid/FFT plans", "measure",
+                                    "measure: FFTW times candidate transforms once and keeps the fastest "
+                                    "(faster runs; results can differ from another process's in the last "
+                                    "digits); estimate: plans chosen without timing, so every process gives "
+                                    "identical results (fretsim map uses it).",
+                                    "measure|estimate"));
     specs.push_back(Spec::selection("Normal contact/Pressure model", "numerical",
                                     "numerical: elastic half-space solution on the grid (Polonsky-Keer CG with "
                                     "DC-FFT); hertz: the analytic Hertz pressure sampled at cell centres.",
@@ -268,6 +314,7 @@ namespace fretsim::scenes
     c.bristle_stiffness =
       (s.bristle_stiffness > 0.0 ? s.bristle_stiffness : calibrated_bristle_stiffness()) * s.bristle_stiffness_factor;
     c.exact.tolerance       = s.exact_tolerance;
+    c.exact.measure_fft_plans = s.stress_evaluator.measure_fft_plans;
     // The virgin levels of the Masing superposition as fine as a quarter
     // cycle's steps, uniform in the shift (the time-step study refines both).
     c.exact.masing_level_spacing = s.sliding_amplitude / (0.25 * s.steps_per_cycle);
@@ -337,6 +384,9 @@ namespace fretsim::scenes
     s.snapshots_per_cycle      = static_cast<int>(p.get_integer("Output/Field snapshots per cycle"));
     s.snapshot_cycles          = static_cast<int>(p.get_integer("Output/Field output cycles"));
     s.stress_evaluator.method      = p.get("Stresses/Evaluator");
+    s.stress_evaluator.measure_fft_plans = p.get("Grid/FFT plans") == "measure";
+    s.yield_strength               = p.get_double("Materials/Lower body/Yield strength");
+    read_bulk_stress();
     s.stress_evaluator.mlmi_levels = static_cast<int>(p.get_integer("Stresses/MLMI levels"));
     s.stress_evaluator.mlmi_order  = static_cast<int>(p.get_integer("Stresses/MLMI order"));
     s.depth_layers                 = p.get_double_list("Stresses/Depth layers");
@@ -383,6 +433,20 @@ namespace fretsim::scenes
     const double bristle_stiffness = s.bristle_stiffness * s.bristle_stiffness_factor;
     if (!std::isfinite(bristle_stiffness))
       p.reject("Friction/Bristle stiffness factor", "the scaled bristle stiffness overflows");
+  }
+
+  void ConcentratedContactScene::read_bulk_stress()
+  {
+    auto &bulk = fretting_case.bulk_stress;
+    const std::array<std::string, 3> components{"xx", "yy", "xy"};
+    for (int k = 0; k < 3; ++k)
+      {
+        bulk.static_surface[k]     = parameters.get_double("Bulk stress/Static " + components[k]);
+        bulk.static_gradient[k]    = parameters.get_double("Bulk stress/Static gradient " + components[k]);
+        bulk.amplitude_surface[k]  = parameters.get_double("Bulk stress/Amplitude " + components[k]);
+        bulk.amplitude_gradient[k] = parameters.get_double("Bulk stress/Amplitude gradient " + components[k]);
+      }
+    bulk.phase = parameters.get_double("Bulk stress/Phase");
   }
 
   namespace
@@ -467,7 +531,9 @@ namespace fretsim::scenes
     for (const double value : run.pressure())
       contact_area += value > 0.0 ? grid_.cell_area() : 0.0;
     history.contact_radius = std::sqrt(contact_area / M_PI);
-    ConcentratedResults results(results_file, parameters.to_prm(), grid_, s.depth_layers, history.contact_radius);
+    std::optional<ConcentratedResults> results;
+    if (options.files)
+      results.emplace(results_file, parameters.to_prm(), grid_, s.depth_layers, history.contact_radius);
 
     const double direction_x = std::cos(s.sliding_direction), direction_y = std::sin(s.sliding_direction);
     const int    snapshot_interval   = s.snapshots_per_cycle > 0 ? s.steps_per_cycle / s.snapshots_per_cycle : 0;
@@ -479,7 +545,9 @@ namespace fretsim::scenes
       const double force_y = contact::integrate(grid_, run.traction().traction_y());
       const double slip_fraction =
         contact::slip_area_fraction(run.traction().effective_friction(), run.pressure(), s.slip_tolerance);
-      results.append_row({step * time_step, static_cast<double>((step + s.steps_per_cycle - 1) / s.steps_per_cycle),
+      history.slip_area_fraction_max = std::max(history.slip_area_fraction_max, step > 0 ? slip_fraction : 0.0);
+      if (results)
+        results->append_row({step * time_step, static_cast<double>((step + s.steps_per_cycle - 1) / s.steps_per_cycle),
                           displacement * direction_x, displacement * direction_y, force_x, force_y, s.normal_load,
                           reference_force * direction_x, slip_fraction});
       return force_x * direction_x + force_y * direction_y;
@@ -487,7 +555,8 @@ namespace fretsim::scenes
 
     app::Progress progress("concentrated contact", run.total_steps(), options.progress);
     history.loop.add(0.0, write_row(0, 0.0, 0.0));
-    results.flush();
+    if (results)
+      results->flush();
     while (!run.finished() && !app::interrupt_requested())
       {
         run.advance();
@@ -499,15 +568,17 @@ namespace fretsim::scenes
                                                                    reversed_before) :
                             0.0;
         history.loop.add(run.displacement(), write_row(step, run.displacement(), reference_force));
-        if (snapshot_interval > 0 && step >= first_snapshot_step && step % snapshot_interval == 0)
-          results.append_snapshot(run.time(), run, s.slip_tolerance);
-        results.flush();
+        if (results && snapshot_interval > 0 && step >= first_snapshot_step && step % snapshot_interval == 0)
+          results->append_snapshot(run.time(), run, s.slip_tolerance);
+        if (results)
+          results->flush();
         progress.update(step, run.time());
       }
     progress.finish();
     history.completed = run.finished();
-    results.close(run.risk().risk_max(), history.completed,
-                  (std::filesystem::path(options.output_directory) / "results.xdmf").string());
+    if (results)
+      results->close(run.risk().risk_max(), history.completed,
+                     (std::filesystem::path(options.output_directory) / "results.xdmf").string());
     return history;
   }
 
@@ -556,9 +627,12 @@ namespace fretsim::scenes
   {
     const auto run_start = Clock::now();
     RunReport  report;
-    std::filesystem::create_directories(options.output_directory);
-    report.results_file = (std::filesystem::path(options.output_directory) / "results.h5").string();
-    report.summary_file = (std::filesystem::path(options.output_directory) / "summary.json").string();
+    if (options.files)
+      {
+        std::filesystem::create_directories(options.output_directory);
+        report.results_file = (std::filesystem::path(options.output_directory) / "results.h5").string();
+        report.summary_file = (std::filesystem::path(options.output_directory) / "summary.json").string();
+      }
 
     // 1. Normal contact, on the grid of the run.
     contact::FrettingRun run(fretting_case, grid, std::move(stresses));
@@ -575,8 +649,11 @@ namespace fretsim::scenes
     // 4. Summary and figures.
     const output::Summary summary =
       make_summary(run, history, convergence, convergence_seconds, seconds_since(run_start));
+    report.numbers = key_numbers(run, history, convergence, seconds_since(run_start));
+    report.labels["regime"] = regime(history);
+    if (!options.files)
+      return report;
     summary.write(report.summary_file);
-    report.numbers = key_numbers(run, history, seconds_since(run_start));
     if (options.plots)
       report.figures = make_figures(options.output_directory);
     return report;
@@ -616,6 +693,14 @@ namespace fretsim::scenes
     summary.set("stress_evaluator", run.stress_evaluator().name());
     summary.set("stress_evaluations", static_cast<long long>(steps_done + 1));
     add_risk(summary, run, convergence);
+    summary.set("von_mises_max_Pa", run.von_mises_max());
+    if (s.yield_strength > 0.0)
+      {
+        summary.set("yield_strength_Pa", s.yield_strength);
+        summary.set("yield_margin", s.yield_strength / run.von_mises_max());
+      }
+    if (!fretting_case.bulk_stress.is_zero())
+      summary.set("bulk_stress", std::string("superposed (Bulk stress section)"));
     summary.set("sliding_amplitude_m", s.sliding_amplitude);
     summary.set("cycles", static_cast<long long>(history.loop.complete_cycles()));
     summary.set("steps", steps_done);
@@ -652,12 +737,9 @@ namespace fretsim::scenes
     summary.set("residual_stress_centre", s.residual_stress);
     if (!convergence)
       return;
-    // The limit of zero cell size and time step, with a bar that holds both.
     const auto &c = *convergence;
-    summary.set("risk_max_converged", c.grid.converged + c.time_step_correction);
-    // The coarsest grid underestimates the time-step error by about a fifth
-    // (paper case: 2.3e-3 at 32 cells against 2.9e-3 at 128): twice it is the bar.
-    summary.set("risk_max_error_estimate", c.grid.error_estimate + 2.0 * std::abs(c.time_step_correction));
+    summary.set("risk_max_converged", c.converged());
+    summary.set("risk_max_error_estimate", c.error_estimate());
     summary.set("risk_max_converged_location_m", std::vector<double>{x, y, z});
     output::Summary study;
     study.set("method", std::string("Richardson extrapolation over grids of 4h, 2h and h at the square-root edge's "
@@ -698,12 +780,11 @@ namespace fretsim::scenes
       {
         const double gross_slip = history.mindlin->gross_slip_displacement();
         summary.set("gross_slip_displacement_m", gross_slip);
-        summary.set("regime", std::string(s.sliding_amplitude == 0.0           ? "stick" :
-                                          s.sliding_amplitude < gross_slip ? "partial slip" :
-                                                                                  "gross slip"));
         summary.set("mindlin_reference", std::string(hertz.circular ? "exact (circular contact)" :
                                                        "approximate (elliptical contact, equivalent radius sqrt(ab))"));
       }
+    summary.set("regime", regime(history));
+    summary.set("slip_area_fraction_max", history.slip_area_fraction_max);
     if (history.loop.complete_cycles() >= 1 && history.mindlin)
       {
         const auto metrics = history.loop.last_cycle(mu_P, *history.mindlin, s.sliding_amplitude);
@@ -723,8 +804,19 @@ namespace fretsim::scenes
       }
   }
 
+  std::string ConcentratedContactScene::regime(const History &history)
+  {
+    // Every loaded cell slipping at some step is gross slip; the margin
+    // covers the sum's round-off.
+    if (history.slip_area_fraction_max <= 0.0)
+      return "stick";
+    return history.slip_area_fraction_max >= 1.0 - 1e-9 ? "gross slip" : "partial slip";
+  }
+
   std::map<std::string, double> ConcentratedContactScene::key_numbers(const contact::FrettingRun &run,
-                                                                      const History &history, double wall_seconds) const
+                                                                      const History &history,
+                                                                      const std::optional<RiskConvergence> &convergence,
+                                                                      double wall_seconds) const
   {
     const auto  &s     = settings;
     const auto   worst = run.risk_maximum();
@@ -735,7 +827,17 @@ namespace fretsim::scenes
                                           {"risk_max_y_m", run.grid().y(worst.j)},
                                           {"risk_max_depth_m", s.depth_layers[worst.layer]},
                                           {"friction_force_limit_N", s.friction_coefficient * s.normal_load},
-                                          {"contact_radius_m", history.contact_radius}};
+                                          {"contact_radius_m", history.contact_radius},
+                                          {"peak_pressure_Pa", max_of(run.pressure())},
+                                          {"slip_area_fraction_max", history.slip_area_fraction_max},
+                                          {"von_mises_max_Pa", run.von_mises_max()}};
+    if (s.yield_strength > 0.0)
+      numbers["yield_margin"] = s.yield_strength / run.von_mises_max();
+    if (convergence)
+      {
+        numbers["risk_max_converged"]      = convergence->converged();
+        numbers["risk_max_error_estimate"] = convergence->error_estimate();
+      }
     if (history.loop.complete_cycles() >= 1 && history.mindlin)
       {
         const auto metrics = history.loop.last_cycle(s.friction_coefficient * s.normal_load, *history.mindlin,

@@ -14,6 +14,9 @@ namespace fretsim::scenes
     std::string output_directory;
     bool        plots    = true; ///< write PNG figures (needs python3 + matplotlib + h5py)
     bool        progress = true; ///< progress line on a terminal
+    /// false: nothing is written (no results, summary or figures), the report's
+    /// numbers are the run's result (a map's point).
+    bool files = true;
   };
 
   /// What a run tells the command line.
@@ -26,6 +29,7 @@ namespace fretsim::scenes
     /// Key results by their summary.json names, for tools that compare runs
     /// (e.g. "risk_max", "wall_time_s", "dissipated_energy_per_cycle_J").
     std::map<std::string, double> numbers;
+    std::map<std::string, std::string> labels; ///< e.g. "regime": "partial slip"
   };
 
   /// What a run needs, estimated from its parameters before anything is

@@ -3,6 +3,7 @@
 #include "app/build_info.h"
 #include "app/compare_command.h"
 #include "app/compare_traction.h"
+#include "app/map_command.h"
 #include "app/fe_command.h"
 #include "app/mesh_command.h"
 #include "app/reduce_command.h"
@@ -170,6 +171,36 @@ namespace fretsim::app
       return exit_ok;
     }
 
+    /// `fretsim map`: its options, into `options`.
+    CLI::App *add_map_command(CLI::App &app, MapOptions &options)
+    {
+      auto *map = app.add_subcommand(
+        "map", "Run a scene at every point of a grid over one to three of its parameters, in parallel (threads, "
+               "and MPI ranks under mpirun), resumably: D_max (converged, with its error bar where the scene "
+               "estimates it), where it sits, regime, force amplitude, peak pressure and yield margin per point in "
+               "map.h5 and map.csv, and map.png with the D = 1 boundary");
+      map->add_option("CONFIG", options.config_file, "Scene file (.prm or .json)")->required();
+      map->add_option("--axis", options.axes,
+                      "An axis 'Section/Name=FROM:TO:N' (evenly spaced) or 'Section/Name=FROM:TO:N:log' "
+                      "(geometric), e.g. --axis 'Loading/Normal load=100:3000:20'; one to three, the first "
+                      "varying fastest")
+        ->required();
+      map->add_flag("--boundary", options.boundary,
+                    "Also locate D = 1 along each line of the first axis by bisection between the grid points "
+                    "that bracket it (boundary.csv)");
+      map->add_option("--boundary-tolerance", options.boundary_tolerance,
+                      "Bisection stops when the bracket is below this fraction of the first axis's range (of its "
+                      "logarithm's on a log axis)")
+        ->capture_default_str()
+        ->check(CLI::Range(1e-9, 0.5));
+      map->add_option("-j,--jobs", options.jobs,
+                      "Points run at a time by each process (0: the machine's cores shared by the ranks on it; "
+                      "scenes that write files run one at a time)")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 4096));
+      return map;
+    }
+
     int print_parameters(const std::string &scene)
     {
       auto known_names = scenes::scene_names();
@@ -277,6 +308,14 @@ namespace fretsim::app
     compare_full->add_flag("--no-plots", no_plots, "Do not write the PNG figure");
     compare_full->add_flag("-q,--quiet", quiet, "No progress display");
     compare_full->add_option("--set", settings, "Override a parameter, e.g. --set 'Compare/Instants=8'");
+    MapOptions map_options;
+    auto      *map = add_map_command(app, map_options);
+    add_output(map, map_options.output_directory,
+               "Output directory (default: results/<config name>-map); the same command with the same folder "
+               "continues a map that stopped");
+    map->add_flag("--no-plots", no_plots, "Do not write the PNG figure");
+    map->add_flag("-q,--quiet", quiet, "No progress line");
+    map->add_option("--set", settings, "Override a parameter at every point, e.g. --set 'Grid/Cells x=64'");
     auto *bench = app.add_subcommand("bench", "Error against run time of the numerical approximations");
     bench->require_subcommand(1);
     StressBenchmarkOptions stress_bench;
@@ -389,6 +428,19 @@ namespace fretsim::app
               std::cout << (file.size() > 4 && file.substr(file.size() - 4) == ".png" ? "figure:   " : "table:    ")
                         << std::filesystem::absolute(file).string() << "\n";
             return exit_ok;
+          }
+        if (*map)
+          {
+            if (map_options.output_directory.empty())
+              map_options.output_directory = default_output(map_options.config_file, "-map");
+            map_options.overrides = parse_overrides(settings);
+            map_options.plots     = !no_plots;
+            map_options.progress  = !quiet;
+            map_options.force     = force;
+            for (const auto &file : run_map_command(map_options))
+              std::cout << (file.size() > 4 && file.substr(file.size() - 4) == ".png" ? "figure:   " : "written:  ")
+                        << std::filesystem::absolute(file).string() << "\n";
+            return interrupt_requested() ? 128 + interrupt_signal() : exit_ok;
           }
         if (*bench_stresses)
           {

@@ -1,12 +1,14 @@
 #include "app/progress.h"
 
+#include <cmath>
 #include <cstdio>
 #include <unistd.h>
 
 namespace fretsim::app
 {
-  Progress::Progress(const std::string &label, long total_steps, bool enabled)
+  Progress::Progress(const std::string &label, long total_steps, bool enabled, const std::string &unit)
     : label(label)
+    , unit(unit)
     , total_steps(total_steps)
     , active(enabled && isatty(fileno(stderr)))
     , start(std::chrono::steady_clock::now())
@@ -26,9 +28,11 @@ namespace fretsim::app
     last_draw            = now;
     const double elapsed = std::chrono::duration<double>(now - start).count();
     const double eta     = steps_done > 0 ? elapsed * (total_steps - steps_done) / steps_done : 0.0;
-    std::fprintf(stderr, "\r%s: step %ld/%ld (%3.0f %%), t = %.4g s, elapsed %.1f s, ETA %.1f s   ",
-                 label.c_str(), steps_done, total_steps, 100.0 * steps_done / total_steps,
-                 simulated_time, elapsed, eta);
+    std::fprintf(stderr, "\r%s: %s %ld/%ld (%3.0f %%), ", label.c_str(), unit.c_str(), steps_done, total_steps,
+                 100.0 * steps_done / total_steps);
+    if (!std::isnan(simulated_time))
+      std::fprintf(stderr, "t = %.4g s, ", simulated_time);
+    std::fprintf(stderr, "elapsed %.1f s, ETA %.1f s   ", elapsed, eta);
     std::fflush(stderr);
     drawn = true;
   }

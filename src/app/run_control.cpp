@@ -111,6 +111,12 @@ namespace fretsim::app
       return !error;
     }
 
+    bool resumable(const fs::path &folder, const OutputPolicy &policy)
+    {
+      std::error_code error;
+      return !policy.resume_file.empty() && fs::exists(folder / policy.resume_file, error);
+    }
+
     void check_folder(const std::string &path, const OutputPolicy &policy)
     {
       if (path.empty())
@@ -120,7 +126,7 @@ namespace fretsim::app
       if (fs::exists(folder, error) && !fs::is_directory(folder, error))
         refuse(policy, path, "is a file; expected a folder (a new one, or one holding a previous result)");
       check_parent_chain(folder, path, policy);
-      if (!policy.force && fs::is_directory(folder, error))
+      if (!policy.force && fs::is_directory(folder, error) && !resumable(folder, policy))
         {
           const auto previous = own_entries(folder, policy.own_files);
           if (!previous.empty())
@@ -187,8 +193,11 @@ namespace fretsim::app
       {
         // Checked again under the lock: a run that finished meanwhile left its result.
         check_folder(path, policy);
+        const bool resuming = !policy.force && resumable(path, policy);
         for (const auto &previous : own_entries(path, policy.own_files))
           {
+            if (resuming && previous.filename() == policy.resume_file)
+              continue;
             fs::remove_all(previous, error);
             if (error)
               refuse(policy, path, "cannot remove the previous result's '" + previous.filename().string() + "' (" +

@@ -27,6 +27,10 @@ namespace fretsim::app
     std::string              option = "-o"; ///< how the user gave the folder, for messages
     std::vector<std::string> own_files;
     bool                     force = false; ///< replace a previous result
+    /// One of own_files that a restarted command continues from (a map's
+    /// map.h5): without force its presence is no previous result, and it is
+    /// kept while the command's other files are replaced.
+    std::string resume_file;
   };
 
   /// The file names a scene run writes (results, summary, figures).

@@ -815,6 +815,13 @@ namespace fretsim::scenes
     }
   } // namespace
 
+  void BearingHousingScene::prepare()
+  {
+    models::ModelLoader loader(settings->build_model, true);
+    load_ring(*settings, parameters, loader);
+    loader.finish();
+  }
+
   RunReport BearingHousingScene::run(const RunOptions &options)
   {
     const auto &s         = *settings;

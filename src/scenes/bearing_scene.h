@@ -31,6 +31,8 @@ namespace fretsim::scenes
     /// the Dang Van risk at every output time; results.h5 grows as it goes,
     /// summary.json and figures at the end.
     RunReport run(const RunOptions &options) override;
+    /// Loads or builds the reduced models (collectively on every MPI rank).
+    void prepare() override;
 
     /// The validated parameters, as the run uses them.
     struct Settings;

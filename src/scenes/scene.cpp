@@ -46,6 +46,15 @@ namespace fretsim::scenes
     return std::make_unique<ConcentratedContactScene>(std::move(parameters));
   }
 
+  std::vector<std::pair<std::string, std::string>> map_point_settings(const std::string &scene)
+  {
+    if (scene == "bearing_housing")
+      return {{"Model/Build if missing", "false"}};
+    return {{"Grid/FFT plans", "estimate"}};
+  }
+
+  bool runs_in_threads(const std::string &scene) { return scene == "concentrated"; }
+
   std::unique_ptr<Scene> load_scene(const std::string &config_file,
                                     const std::vector<std::pair<std::string, std::string>> &overrides)
   {

@@ -49,7 +49,19 @@ namespace fretsim::scenes
   public:
     virtual ~Scene() = default;
     virtual RunReport run(const RunOptions &options) = 0;
+    /// Builds what runs of these parameters share and would otherwise build on
+    /// first use (the bearing scene's reduced models), collectively on every
+    /// MPI rank when MPI runs: a map calls it once before its points.
+    virtual void prepare() {}
   };
+
+  /// Settings every point of a map runs with, on top of the user's: results
+  /// identical in every process (FFTW plans without timing), and nothing built
+  /// on the way (prepare() built it).
+  std::vector<std::pair<std::string, std::string>> map_point_settings(const std::string &scene);
+  /// Whether runs of the scene may share a process in parallel threads (runs
+  /// that write no files and plan FFTs under one lock); otherwise one at a time.
+  bool runs_in_threads(const std::string &scene);
 
   std::vector<std::string> scene_names();
   /// The declared parameters of a scene; throws std::invalid_argument for an unknown name.

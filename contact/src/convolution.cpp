@@ -23,6 +23,8 @@ namespace fretsim::contact
     return mutex;
   }
 
+  void detail::forget_planner_history() { fftw_forget_wisdom(); }
+
   namespace
   {
     struct FftwFree
@@ -399,6 +401,7 @@ namespace fretsim::contact
     fftw_complex *spectrum = planning.spectrum.get();
     {
       std::lock_guard<std::mutex> lock(detail::fftw_planner_mutex());
+      detail::forget_planner_history();
       if (d.direct_rows)
         { // ny transforms of padded_nx points, rows padded_nx (real) and
           // spectrum_nx (complex) apart

@@ -105,6 +105,8 @@ namespace fretsim::contact
           std::lock_guard<std::mutex> lock(detail::fftw_planner_mutex());
           const int      ny    = grid.ny;
           const unsigned flags = measure_plans ? FFTW_MEASURE : FFTW_ESTIMATE;
+          if (!measure_plans)
+            detail::forget_planner_history();
           kernel_forward = fftw_plan_dft_r2c_2d(my, mx, real.data, spectrum.data, flags);
           // ny rows of length mx -> ny rows of cx (the other my - ny rows are zero) ...
           rows_forward = fftw_plan_many_dft_r2c(1, &mx, ny, real.data, nullptr, 1, mx, spectrum.data, nullptr, 1, cx,

@@ -112,6 +112,8 @@ namespace fretsim::contact::detail
       // FFTW_MEASURE overwrites the arrays while planning: plan first.
       std::lock_guard<std::mutex> lock(fftw_planner_mutex());
       const unsigned flags = measure_plans ? FFTW_MEASURE : FFTW_ESTIMATE;
+      if (!measure_plans)
+        forget_planner_history();
       b.forward  = fftw_plan_dft_r2c_2d(py, px, b.real_x.get(), b.spectrum_x.get(), flags);
       b.backward = fftw_plan_dft_c2r_2d(py, px, b.spectrum_x.get(), b.real_x.get(), flags);
     }

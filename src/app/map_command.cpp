@@ -237,9 +237,10 @@ namespace fretsim::app
       const int                thread_count = running;
       for (int t = 0; t < thread_count; ++t)
         threads.emplace_back([&, t] {
-          // Points in parallel: each point's own loops run on one core.
-          if (thread_count > 1)
-            omp_set_num_threads(1);
+          // Each point on one core: the cores go to points in parallel, and a
+          // point's result does not depend on how many threads its loops had
+          // (sums split over threads round differently).
+          omp_set_num_threads(1);
           for (;;)
             {
               const std::size_t i = next++;

@@ -259,6 +259,96 @@ TEST(dang_van_eigenvalues, AgreeWithEigenIncludingRepeatedValues)
   EXPECT_LT(worst, 1e-12);
 }
 
+TEST(dang_van_eigenvalues, NewtonLodeFactorEqualsTheTrigonometricForm)
+{
+  // g(x) = sin(acos(x)/3 + pi/3) by Newton's method against the long double
+  // trigonometric value on 200001 points of [-1, 1]. The double trigonometric
+  // form is within 2.5e-16 there; so is Newton's (measured 2.5e-16); 3e-16
+  // fails if one Newton step is dropped (2e-11).
+  double worst = 0.0, worst_trigonometric = 0.0;
+  for (int k = 0; k <= 200000; ++k)
+    {
+      const double      x         = -1.0 + k / 100000.0;
+      const long double reference = std::sin(std::acos(static_cast<long double>(x)) / 3 + std::acos(-1.0L) / 3);
+      worst = std::max(worst, static_cast<double>(std::abs(detail::lode_tresca_factor(x) - reference)));
+      worst_trigonometric =
+        std::max(worst_trigonometric, static_cast<double>(std::abs(std::sin(std::acos(x) / 3.0 + M_PI / 3.0) - reference)));
+    }
+  EXPECT_LT(worst, 3e-16);
+  EXPECT_LT(worst_trigonometric, 3e-16);
+  EXPECT_EQ(detail::lode_tresca_factor(1.0), detail::lode_tresca_factor(-1.0));
+  EXPECT_NEAR(detail::lode_tresca_factor(0.0), 1.0, 2.3e-16);
+}
+
+TEST(dang_van_field, BlockStepEqualsThePointwiseDefinition)
+{
+  // The field's step (blocks of points, vectorised, Jacobi for near-repeated
+  // principal values) against D = tresca_shear(Sigma - dev(M_n)) /
+  // (beta - alpha sigma_H) per point with the running mean M_n in deviator
+  // coordinates: 3 layers of 23 x 29 points (blocks end inside layers),
+  // random states mixed with repeated principal values, zero deviators and
+  // pure hydrostatic tension. The same operations in both: equal to 1e-15
+  // relative (measured 0: only a compiler contracting differently could part them).
+  const int         layers = 3, ny = 23, nx = 29, steps = 7;
+  const std::size_t n = static_cast<std::size_t>(layers) * ny * nx;
+  std::mt19937_64   rng(5);
+  std::normal_distribution<double> normal;
+  DangVanField                     field(n, paper, with(ResidualStressCentre::running_mean, 0));
+  std::vector<std::array<double, 5>> mean(n, std::array<double, 5>{});
+  StressField                      stress;
+  stress.resize(layers, ny, nx);
+  double worst = 0.0;
+  std::size_t repeated = 0;
+  for (int step = 0; step < steps; ++step)
+    {
+      std::vector<double> expected(n);
+      for (int l = 0; l < layers; ++l)
+        for (int j = 0; j < ny; ++j)
+          for (int i = 0; i < nx; ++i)
+            {
+              const std::size_t p    = (static_cast<std::size_t>(l) * ny + j) * nx + i;
+              StressTensor      s;
+              const int         kind = static_cast<int>(p % 5);
+              if (kind == 0) // repeated principal values: axisymmetric about an axis fixed per point
+                {
+                  const double side = 3e8 * normal(rng);
+                  s = rotated(side, side, 2e8 * normal(rng), 0.1 * p, 0.37 * p, 0.0);
+                }
+              else if (kind == 1) // the same state every step: w = 0 from the first step on
+                s.xx = 1e8, s.yy = -2e8, s.xy = 5e7;
+              else if (kind == 2) // hydrostatic tension beyond beta / alpha: D infinite
+                s.xx = s.yy = s.zz = 2e9;
+              else
+                for (int c = 0; c < 6; ++c)
+                  s[c] = 2e8 * normal(rng);
+              for (int c = 0; c < 6; ++c)
+                stress.at(l, c, j, i) = s[c];
+              const auto u = detail::deviator_coordinates(s);
+              double     w[5];
+              for (int d = 0; d < 5; ++d)
+                {
+                  mean[p][d] += (u[d] - mean[p][d]) * (1.0 / static_cast<double>(step + 1));
+                  w[d] = u[d] - mean[p][d];
+                }
+              const StressTensor centred = detail::deviator_from_coordinates({w[0], w[1], w[2], w[3], w[4]});
+              const auto         values  = detail::principal_stresses_reference(centred);
+              const double       spread  = values[0] - values[2];
+              repeated += spread > 0.0 && std::min(values[0] - values[1], values[1] - values[2]) < 1e-6 * spread;
+              const double denominator = beta_paper - alpha_paper * ((s.xx + s.yy + s.zz) / 3.0);
+              expected[p] = denominator > 0.0 ? detail::tresca_shear_of_deviator(w) / denominator
+                                              : std::numeric_limits<double>::infinity();
+            }
+      field.add_step(stress);
+      for (std::size_t p = 0; p < n; ++p)
+        if (std::isinf(expected[p]))
+          ASSERT_EQ(field.risk()[p], expected[p]) << p;
+        else
+          worst = std::max(worst, std::abs(field.risk()[p] - expected[p]) / std::max(expected[p], 1e-300));
+    }
+  EXPECT_GT(repeated, n / 10); // the Jacobi branch is exercised
+  EXPECT_LT(worst, 1e-15);
+}
+
 TEST(dang_van_eigenvalues, DeviatorCoordinatesAreOrthonormal)
 {
   // |u|^2 = s:s (docs/references.md §5.2's sqrt2 scaling of the shears), and the

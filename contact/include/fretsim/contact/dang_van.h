@@ -135,8 +135,11 @@ namespace fretsim::contact
     std::size_t memory_bytes() const;
 
   private:
-    template <class Load>
-    void advance(const Load &load);
+    /// One step; component c of point q of layer l at
+    /// values[l layer_stride + c component_stride + q point_stride], `plane`
+    /// points a layer.
+    void advance(const double *values, std::size_t component_stride, std::size_t point_stride,
+                 std::size_t layer_stride, std::size_t plane, std::size_t layers);
     void check_finite(const double *values, std::size_t count) const;
 
     std::size_t      n;
@@ -163,7 +166,10 @@ namespace fretsim::contact
   /// rotations instead. Agrees with Eigen's iterative solver to 2e-15 of the
   /// largest |principal value|, repeated values included.
   std::array<double, 3> principal_stresses(const StressTensor &stress);
-  /// Tresca shear (sigma_1 - sigma_3) / 2 [Pa].
+  /// Tresca shear (sigma_1 - sigma_3) / 2 [Pa]. Where principal_stresses uses
+  /// the trigonometric form, this solves the same cubic by Newton's method
+  /// (no trigonometric calls, vectorisable), equal to the trigonometric form
+  /// to round-off (unit_dang_van); near-repeated values by Jacobi as there.
   double tresca_shear(const StressTensor &stress);
 
   namespace detail
@@ -177,6 +183,10 @@ namespace fretsim::contact
     StressTensor deviator_from_coordinates(const std::array<double, deviator_dimension> &u);
     /// Tresca shear of the traceless tensor with coordinates u [Pa].
     double tresca_shear_of_deviator(const double *u);
+    /// sin(acos(x)/3 + pi/3) for x in [-1, 1], by Newton's method on the
+    /// cubic (dang_van.cpp): the Tresca shear of a deviator of norm |u| and
+    /// Lode invariant x is |u| lode_tresca_factor(x) / sqrt2.
+    double lode_tresca_factor(double x);
 
     /// Smallest ball enclosing `count` points of R^5 stored row-major
     /// (points[5 k + d]). Writes its centre; returns its radius, the largest

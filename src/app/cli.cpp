@@ -198,6 +198,10 @@ namespace fretsim::app
                       "scenes that write files run one at a time)")
         ->capture_default_str()
         ->check(CLI::Range(0, 4096));
+      map->add_option("--max-points", options.max_points,
+                      "Run at most this many points not yet in map.h5, then stop (a batch job's share; the same "
+                      "command continues the map)")
+        ->check(CLI::Range(1L, 100000000L));
       return map;
     }
 

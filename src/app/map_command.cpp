@@ -590,6 +590,8 @@ namespace fretsim::app
     for (long index = 0; index < map.size(); ++index)
       if (!already.count(index))
         pending.push_back(index);
+    if (options.max_points > 0 && static_cast<long>(pending.size()) > options.max_points)
+      pending.resize(static_cast<std::size_t>(options.max_points));
     install_interrupt_handlers();
     const int jobs = jobs_per_rank(options, map.scene);
     if (root)
@@ -623,7 +625,13 @@ namespace fretsim::app
         grid[record.index] = record;
     const long lines = map.size() / static_cast<long>(map.values[0].size());
     std::vector<BoundaryLine> boundary(static_cast<std::size_t>(lines));
-    if (options.boundary)
+    long complete = root ? static_cast<long>(grid.size()) : 0;
+    if (fem::ParallelEnvironment::active())
+      MPI_Bcast(&complete, 1, MPI_LONG, 0, MPI_COMM_WORLD);
+    if (root && complete < map.size())
+      std::cout << "map: " << complete << " of " << map.size()
+                << " points in map.h5; the same command continues the map\n";
+    if (options.boundary && complete == map.size())
       {
         // Every rank needs the grid's risks to bracket its lines.
         std::vector<long> bits;
@@ -666,7 +674,7 @@ namespace fretsim::app
     write_csv(csv, map, grid);
     written.push_back((fs::path(map.output_directory) / "map.h5").string());
     written.push_back(csv);
-    if (options.boundary)
+    if (options.boundary && complete == map.size())
       {
         std::vector<std::vector<double>> others;
         std::vector<double>              value, low, high;

@@ -36,6 +36,7 @@ namespace fretsim::app
     bool   boundary           = false;
     double boundary_tolerance = 1e-3; ///< of the first axis's range (of its logarithm for a log axis)
     int    jobs               = 0;    ///< points at a time per process; 0: the cores shared by the ranks on a node
+    long   max_points         = 0;    ///< > 0: run at most this many new points, then stop (the same command continues)
     bool   plots = true, progress = true, force = false;
   };
 

@@ -157,3 +157,33 @@ TEST(SceneRisk, AZeroAmplitudeSticksAndRisksOnlyThePressure)
   EXPECT_TRUE(std::isfinite(summary_number(summary, "risk_max")));
   EXPECT_TRUE(std::isfinite(summary_number(summary, "risk_max_converged")));
 }
+
+// The Bulk stress section reaches Dang Van component by component: fully
+// reversed tension along x or y of amplitude f-1, or shear of amplitude t-1,
+// under a ball too lightly loaded to matter (1e-30 N), gives D = 1 (the
+// fatigue limits' definition) to 1e-9, on every grid of the error estimate.
+TEST(SceneRisk, FullyReversedBulkStressAtTheFatigueLimitsGivesRiskOne)
+{
+  const auto directory = test_files::scratch_directory("risk-bulk");
+  test_files::write_text(directory / "scene.prm",
+                         test_files::edited_paper_scene({{"Cells x", "32"}, {"Cells y", "32"}, {"Cycles", "3"},
+                                                         {"Steps per cycle", "40"}, {"Field snapshots per cycle", "0"},
+                                                         {"Sliding amplitude", "0"}, {"Normal load", "1e-30"},
+                                                         {"Friction coefficient", "0"}, {"Traction model", "bristle"},
+                                                         {"Residual stress", "last_cycle_mean"},
+                                                         {"Warm-up cycles", "1"}}));
+  for (const auto &[component, limit] : std::vector<std::pair<std::string, std::string>>{
+         {"Amplitude xx", "690e6"}, {"Amplitude yy", "690e6"}, {"Amplitude xy", "428e6"}})
+    {
+      const auto out    = directory / ("out-" + component.substr(component.size() - 2));
+      const auto result = run_program("run " + (directory / "scene.prm").string() + " -o " + out.string() +
+                                      " --no-plots -q --set 'Bulk stress/" + component + "=" + limit + "'");
+      ASSERT_EQ(result.exit_code, 0) << result.output;
+      const auto summary = test_files::read_text(out / "summary.json");
+      EXPECT_NEAR(summary_number(summary, "risk_max"), 1.0, 1e-9) << component;
+      EXPECT_NEAR(summary_number(summary, "risk_max_converged"), 1.0, 1e-9) << component;
+    }
+  const auto params = run_program("params concentrated");
+  EXPECT_NE(params.output.find("Bulk stress"), std::string::npos);
+  EXPECT_NE(params.output.find("Static gradient xx"), std::string::npos);
+}

@@ -2,8 +2,10 @@
 
 #include <fretsim/contact/fretting_loop.h>
 #include <fretsim/contact/hertz.h>
+#include <fretsim/contact/masing_traction.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 
@@ -125,6 +127,20 @@ namespace fretsim::contact
     settings.steps_per_cycle = setup.steps_per_cycle;
     settings.warmup_cycles   = setup.warmup_cycles;
     dang_van = std::make_unique<DangVanField>(setup.depth_layers.size() * surface.size(), setup.dang_van, settings);
+
+    // The superposition needs the level table to stay within the budget: the
+    // history reaches the virgin shift amplitude (the first quarter cycle; a
+    // branch from a reversal at +-amplitude halves the shift of at most
+    // 2 amplitude), so amplitude / spacing + 1 levels besides level 0.
+    const double spacing = setup.exact.masing_level_spacing;
+    if (setup.superposed_stresses && spacing > 0.0)
+      if (const MasingTraction *model = masing_traction(*traction_model))
+        {
+          const double levels = std::ceil(std::abs(setup.sliding_amplitude) / spacing) + 2.0;
+          const double bytes  = levels * static_cast<double>(total_stress.values.size()) * sizeof(double);
+          if (bytes <= static_cast<double>(setup.superposition_budget))
+            masing = model;
+        }
   }
 
   FrettingRun::~FrettingRun() = default;
@@ -146,6 +162,9 @@ namespace fretsim::contact
     current_displacement = HarmonicSliding{setup.sliding_amplitude, setup.period}.displacement(time());
     const double slip    = current_displacement - last_displacement;
 
+    // The composition of the traction before the step (that of a reversal
+    // the step may start).
+    const MasingTraction::Composition before = masing ? masing->composition() : MasingTraction::Composition{};
     auto start = Clock::now();
     traction_model->advance(contact_pressure, setup.friction_coefficient, slip * std::cos(setup.sliding_direction),
                             slip * std::sin(setup.sliding_direction));
@@ -154,8 +173,21 @@ namespace fretsim::contact
     iterations_most = std::max(iterations_most, traction_model->last_iterations());
 
     start = Clock::now();
-    stresses->evaluate(no_load, traction_model->traction_x(), traction_model->traction_y(), shear_stress);
-    add_stresses(&shear_stress);
+    if (masing)
+      {
+        const MasingTraction::Composition &recipe = masing->composition();
+        if (recipe.reversal >= 0 && reversal_stress.count(recipe.reversal) == 0)
+          // A new reversal: its traction is the one before this step.
+          compose_shear(before, reversal_stress[recipe.reversal]);
+        for (auto kept = reversal_stress.begin(); kept != reversal_stress.end();)
+          kept = masing->holds_reversal(kept->first) ? std::next(kept) : reversal_stress.erase(kept);
+        add_superposed_stresses(recipe);
+      }
+    else
+      {
+        stresses->evaluate(no_load, traction_model->traction_x(), traction_model->traction_y(), shear_stress);
+        add_stresses(&shear_stress);
+      }
     times.stresses += seconds_since(start);
 
     start = Clock::now();
@@ -163,34 +195,91 @@ namespace fretsim::contact
     times.dang_van += seconds_since(start);
   }
 
+  const StressField &FrettingRun::level_stresses(std::size_t level)
+  {
+    if (virgin_stress.size() <= level)
+      virgin_stress.resize(level + 1);
+    StressField &field = virgin_stress[level];
+    if (field.values.empty())
+      stresses->evaluate(no_load, masing->virgin_level_x(level), masing->virgin_level_y(level), field);
+    return field;
+  }
+
+  void FrettingRun::compose_shear(const MasingTraction::Composition &recipe, StressField &out)
+  {
+    const double *lower = level_stresses(recipe.lower).values.data();
+    const double *upper = level_stresses(recipe.upper).values.data();
+    const double *base  = recipe.reversal >= 0 ? reversal_stress.at(recipe.reversal).values.data() : nullptr;
+    out.resize(total_stress.n_layers, total_stress.ny, total_stress.nx);
+    double           *result = out.values.data();
+    const double      f = recipe.factor, w = recipe.weight;
+    const std::int64_t size = static_cast<std::int64_t>(out.values.size());
+    // As MasingTraction composes the traction, value by value.
+#pragma omp parallel for simd schedule(static) if (size > 65536)
+    for (std::int64_t k = 0; k < size; ++k)
+      result[k] = (base ? base[k] : 0.0) + f * ((1.0 - w) * lower[k] + w * upper[k]);
+  }
+
   void FrettingRun::add_stresses(const StressField *shear)
   {
+    add_shear(shear ? shear->values.data() : nullptr, nullptr, 0.0, nullptr, nullptr, 0.0);
+  }
+
+  void FrettingRun::add_superposed_stresses(const MasingTraction::Composition &recipe)
+  {
+    const double *lower = level_stresses(recipe.lower).values.data();
+    const double *upper = level_stresses(recipe.upper).values.data();
+    const double *base  = recipe.reversal >= 0 ? reversal_stress.at(recipe.reversal).values.data() : nullptr;
+    add_shear(nullptr, base, recipe.factor, lower, upper, recipe.weight);
+  }
+
+  void FrettingRun::add_shear(const double *shear, const double *base, double factor, const double *lower,
+                              const double *upper, double weight)
+  {
     const std::size_t per_layer = surface.size();
+    const std::size_t layers    = setup.depth_layers.size();
     const bool        bulk      = !setup.bulk_stress.is_zero();
-    for (std::size_t layer = 0; layer < setup.depth_layers.size(); ++layer)
+    std::vector<std::array<double, stress_component_count>> add(layers);
+    for (std::size_t layer = 0; layer < layers; ++layer)
       {
         const StressTensor bulk_here =
           bulk ? setup.bulk_stress.at(setup.depth_layers[layer], time(), setup.period) : StressTensor{};
         for (int component = 0; component < stress_component_count; ++component)
-          {
-            const std::size_t first = (layer * stress_component_count + component) * per_layer;
-            const double      add   = bulk_here[component];
-            for (std::size_t k = first; k < first + per_layer; ++k)
-              total_stress.values[k] = pressure_stress.values[k] + (shear ? shear->values[k] : 0.0) + add;
-          }
-        // von Mises: sqrt(3 J2) of the total stress.
-        const auto at = [&](int component, std::size_t cell) {
-          return total_stress.values[(layer * stress_component_count + component) * per_layer + cell];
-        };
+          add[layer][component] = bulk_here[component];
+      }
+    const double *pressure_part = pressure_stress.values.data();
+    double       *total         = total_stress.values.data();
+    const bool    composed      = lower != nullptr;
+    double        largest       = von_mises_largest;
+    // The sum (the shear given, composed as the traction is, or none) and its
+    // von Mises stress sqrt(3 J2) in one pass and one parallel region: a
+    // maximum does not depend on the order, so the threads' split cannot
+    // change it.
+#pragma omp parallel reduction(max : largest) if (layers * per_layer > 4096)
+    for (std::size_t layer = 0; layer < layers; ++layer)
+      {
+        const std::size_t first = layer * stress_component_count * per_layer;
+        const double     *plus  = add[layer].data();
+#pragma omp for simd schedule(static) nowait
         for (std::size_t cell = 0; cell < per_layer; ++cell)
           {
-            const double xx = at(0, cell), yy = at(1, cell), zz = at(2, cell);
-            const double yz = at(3, cell), xz = at(4, cell), xy = at(5, cell);
+            double sigma[stress_component_count];
+            for (int component = 0; component < stress_component_count; ++component)
+              {
+                const std::size_t k = first + component * per_layer + cell;
+                // As MasingTraction composes the traction, value by value.
+                const double part = composed ? (base ? base[k] : 0.0) + factor * ((1.0 - weight) * lower[k] + weight * upper[k])
+                                             : (shear ? shear[k] : 0.0);
+                sigma[component]  = pressure_part[k] + part + plus[component];
+                total[k]          = sigma[component];
+              }
+            const double xx = sigma[0], yy = sigma[1], zz = sigma[2], yz = sigma[3], xz = sigma[4], xy = sigma[5];
             const double j2_times_6 = (xx - yy) * (xx - yy) + (yy - zz) * (yy - zz) + (zz - xx) * (zz - xx) +
                                       6.0 * (yz * yz + xz * xz + xy * xy);
-            von_mises_largest = std::max(von_mises_largest, std::sqrt(0.5 * j2_times_6));
+            largest = std::max(largest, std::sqrt(0.5 * j2_times_6));
           }
       }
+    von_mises_largest = largest;
   }
 
   RiskMaximum FrettingRun::risk_maximum() const

@@ -40,6 +40,14 @@ namespace fretsim::contact
 
   std::size_t MasingTraction::virgin_levels() const { return virgin->shifts.size() - 1; }
 
+  const Field &MasingTraction::virgin_level_x(std::size_t level) const { return virgin->tau_x.at(level); }
+  const Field &MasingTraction::virgin_level_y(std::size_t level) const { return virgin->tau_y.at(level); }
+
+  bool MasingTraction::holds_reversal(std::int64_t id) const
+  {
+    return std::any_of(reversals.begin(), reversals.end(), [id](const Reversal &r) { return r.id == id; });
+  }
+
   void MasingTraction::reset()
   {
     virgin->solver.reset();
@@ -51,6 +59,7 @@ namespace fretsim::contact
     shift   = 0.0;
     heading = 0;
     reversals.clear();
+    recipe = Composition{};
     std::fill(tau_x.begin(), tau_x.end(), 0.0);
     std::fill(tau_y.begin(), tau_y.end(), 0.0);
   }
@@ -95,6 +104,9 @@ namespace fretsim::contact
     const auto   lower = upper - 1;
     const double span  = v.shifts[upper] - v.shifts[lower];
     const double w     = span > 0.0 ? std::clamp((s - v.shifts[lower]) / span, 0.0, 1.0) : 1.0;
+    recipe.lower       = lower;
+    recipe.upper       = upper;
+    recipe.weight      = w;
     for (std::size_t c = 0; c < vx.size(); ++c)
       {
         vx[c] = (1.0 - w) * v.tau_x[lower][c] + w * v.tau_x[upper][c];
@@ -109,6 +121,8 @@ namespace fretsim::contact
         // The virgin branch; the virgin traction is odd in the shift.
         virgin_traction(std::abs(shift), work_x, work_y);
         const double sign = shift < 0.0 ? -1.0 : 1.0;
+        recipe.reversal   = -1;
+        recipe.factor     = sign;
         for (std::size_t c = 0; c < tau_x.size(); ++c)
           {
             tau_x[c] = sign * work_x[c];
@@ -120,6 +134,8 @@ namespace fretsim::contact
     const double    d    = shift - r.shift;
     const double    sign = d < 0.0 ? -1.0 : 1.0;
     virgin_traction(0.5 * std::abs(d), work_x, work_y);
+    recipe.reversal = r.id;
+    recipe.factor   = 2.0 * sign;
     for (std::size_t c = 0; c < tau_x.size(); ++c)
       {
         tau_x[c] = r.tau_x[c] + 2.0 * sign * work_x[c];
@@ -156,7 +172,7 @@ namespace fretsim::contact
     const double increment = dx * direction_x + dy * direction_y;
     const int    sign      = increment > 0.0 ? 1 : -1;
     if (heading != 0 && sign != heading)
-      reversals.push_back({shift, tau_x, tau_y});
+      reversals.push_back({shift, tau_x, tau_y, next_reversal_id++});
     heading = sign;
     shift += increment;
 

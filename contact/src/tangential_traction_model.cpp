@@ -130,7 +130,6 @@ namespace fretsim::contact
       int           last_iterations() const override { return model.last_iterations(); }
       TractionModel kind() const override { return TractionModel::exact_masing; }
 
-    private:
       MasingTraction model;
     };
   } // namespace
@@ -159,5 +158,11 @@ namespace fretsim::contact
   {
     const auto *exact = dynamic_cast<const ExactAdapter *>(&model);
     return exact ? &exact->solver : nullptr;
+  }
+
+  const MasingTraction *masing_traction(const TangentialTractionModel &model)
+  {
+    const auto *masing = dynamic_cast<const MasingAdapter *>(&model);
+    return masing ? &masing->model : nullptr;
   }
 } // namespace fretsim::contact

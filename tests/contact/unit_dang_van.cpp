@@ -334,7 +334,7 @@ TEST(dang_van_field, BlockStepEqualsThePointwiseDefinition)
               const auto         values  = detail::principal_stresses_reference(centred);
               const double       spread  = values[0] - values[2];
               repeated += spread > 0.0 && std::min(values[0] - values[1], values[1] - values[2]) < 1e-6 * spread;
-              const double denominator = beta_paper - alpha_paper * ((s.xx + s.yy + s.zz) / 3.0);
+              const double denominator = beta_paper - alpha_paper * ((s.xx + s.yy + s.zz) * (1.0 / 3.0));
               expected[p] = denominator > 0.0 ? detail::tresca_shear_of_deviator(w) / denominator
                                               : std::numeric_limits<double>::infinity();
             }

@@ -25,6 +25,7 @@
 #include <fretsim/contact/partial_slip.h>
 #include <fretsim/contact/surface_grid.h>
 
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -53,15 +54,37 @@ namespace fretsim::contact
     /// Virgin levels solved so far.
     std::size_t virgin_levels() const;
 
+    /// How the current traction is composed, so that anything linear in the
+    /// traction (its stresses) can be composed the same way:
+    ///   tau = tau_r + factor ((1 - weight) T_lower + weight T_upper),
+    /// T_k the traction of virgin level k (level 0: none), tau_r the traction
+    /// of reversal `reversal` (the traction after the step before it; none if
+    /// reversal < 0). Reversal ids are unique over the object's life.
+    struct Composition
+    {
+      std::int64_t reversal = -1;
+      double       factor   = 0.0;
+      std::size_t  lower = 0, upper = 0;
+      double       weight = 0.0;
+    };
+    const Composition &composition() const { return recipe; }
+    /// The traction of virgin level k <= virgin_levels() [Pa].
+    const Field &virgin_level_x(std::size_t level) const;
+    const Field &virgin_level_y(std::size_t level) const;
+    /// True while Masing's memory holds reversal `id`.
+    bool holds_reversal(std::int64_t id) const;
+
   private:
     struct Reversal
     {
-      double shift; // along the line [m]
-      Field  tau_x, tau_y;
+      double       shift; // along the line [m]
+      Field        tau_x, tau_y;
+      std::int64_t id;
     };
     struct Virgin;
 
-    /// tau_v at shift s >= 0 along the line, into (vx, vy).
+    /// tau_v at shift s >= 0 along the line, into (vx, vy); the levels and
+    /// weight used into recipe.
     void virgin_traction(double s, Field &vx, Field &vy);
     void compose();
 
@@ -76,6 +99,8 @@ namespace fretsim::contact
     double                  shift = 0.0; // accumulated along the line [m]
     int                     heading = 0; // sign of the current branch's increments
     std::vector<Reversal>   reversals;   // Masing's memory, the newest last
+    std::int64_t            next_reversal_id = 0;
+    Composition             recipe;
     Field                   tau_x, tau_y, work_x, work_y;
     int                     iterations = 0;
   };

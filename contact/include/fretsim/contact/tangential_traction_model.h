@@ -85,4 +85,9 @@ namespace fretsim::contact
   /// The exact model's solver, for its per-step statistics (iterations, FFT
   /// products, forces, dissipation); nullptr for the other models.
   const PartialSlipSolver *exact_solver(const TangentialTractionModel &model);
+
+  class MasingTraction;
+  /// The exact masing model's superposition, for its composition; nullptr
+  /// for the other models.
+  const MasingTraction *masing_traction(const TangentialTractionModel &model);
 } // namespace fretsim::contact

@@ -1,0 +1,81 @@
+// The whole ball-on-flat fretting history (contact::FrettingRun) of the paper
+// case, configs/paper_concentrated.prm: steel on steel, R = 50 mm, P = 1250 N,
+// mu = 0.53, amplitude 2.241 um, the 'exact masing' traction with levels a
+// quarter cycle's steps apart, FFT stresses on 5 layers, running-mean Dang Van,
+// 3 cycles x 200 steps. One iteration = construction (normal contact) and all
+// steps. Counters: the stage times of the run [s] and D_max.
+//
+//   build/bench/bench_fretting_run --benchmark_repetitions=3
+//
+// path: 0 = the reference path (a stress evaluation per step, the per-point
+// Dang Van step), 1 = the default (FrettingCase::fast_path).
+#include <fretsim/contact/fretting_run.h>
+
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+
+using namespace fretsim::contact;
+
+namespace
+{
+  FrettingCase paper_case()
+  {
+    FrettingCase c;
+    c.materials            = MaterialPair{{200e9, 0.3}, {200e9, 0.3}};
+    c.radius_x             = 0.05;
+    c.radius_y             = 0.05;
+    c.normal_load          = 1250.0;
+    c.sliding_amplitude    = 2.241e-6;
+    c.sliding_direction    = 0.0;
+    c.period               = 1.0;
+    c.cycles               = 3;
+    c.steps_per_cycle      = 200;
+    c.friction_coefficient = 0.53;
+    c.traction_model       = TractionModel::exact_masing;
+    c.exact.tolerance      = 1e-8;
+    c.exact.masing_level_spacing = c.sliding_amplitude / (0.25 * c.steps_per_cycle);
+    c.numerical_pressure         = true;
+    c.normal                     = {1e-10, 5000};
+    c.depth_layers               = {0.0, 3.75e-5, 7.5e-5, 1.5e-4, 3.6e-4};
+    c.dang_van                   = DangVanConstants::from_fatigue_limits(690e6, 428e6);
+    c.residual_stress            = ResidualStressCentre::running_mean;
+    return c;
+  }
+
+  void BM_FrettingRun(benchmark::State &state)
+  {
+    const int    cells = static_cast<int>(state.range(0));
+    FrettingCase c     = paper_case();
+    c.superposed_stresses = state.range(1) != 0;
+    const SurfaceGrid  grid = fretting_grid(c, cells, cells, 1.5);
+    FrettingStageTimes times;
+    RiskMaximum        worst;
+    for (auto _ : state)
+      {
+        FrettingRun run(c, grid);
+        while (!run.finished())
+          run.advance();
+        times = run.stage_times();
+        worst = run.risk_maximum();
+        benchmark::DoNotOptimize(run.risk().risk_max().data());
+      }
+    state.counters["normal_s"]   = times.normal_contact;
+    state.counters["traction_s"] = times.traction;
+    state.counters["stresses_s"] = times.stresses;
+    state.counters["dang_van_s"] = times.dang_van;
+    state.counters["D_max"]      = worst.value;
+  }
+} // namespace
+
+BENCHMARK(BM_FrettingRun)
+  ->ArgNames({"n", "path"})
+  ->Args({64, 0})
+  ->Args({64, 1})
+  ->Args({128, 0})
+  ->Args({128, 1})
+  ->Unit(benchmark::kSecond)
+  ->UseRealTime()
+  ->Iterations(1);
+
+BENCHMARK_MAIN();

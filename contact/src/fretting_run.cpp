@@ -8,6 +8,9 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <type_traits>
+
+#include <omp.h>
 
 namespace fretsim::contact
 {
@@ -249,37 +252,72 @@ namespace fretsim::contact
       }
     const double *pressure_part = pressure_stress.values.data();
     double       *total         = total_stress.values.data();
-    const bool    composed      = lower != nullptr;
-    double        largest       = von_mises_largest;
-    // The sum (the shear given, composed as the traction is, or none) and its
-    // von Mises stress sqrt(3 J2) in one pass and one parallel region: a
-    // maximum does not depend on the order, so the threads' split cannot
-    // change it.
-#pragma omp parallel reduction(max : largest) if (layers * per_layer > 4096)
-    for (std::size_t layer = 0; layer < layers; ++layer)
-      {
-        const std::size_t first = layer * stress_component_count * per_layer;
-        const double     *plus  = add[layer].data();
-#pragma omp for simd schedule(static) nowait
-        for (std::size_t cell = 0; cell < per_layer; ++cell)
-          {
-            double sigma[stress_component_count];
-            for (int component = 0; component < stress_component_count; ++component)
-              {
-                const std::size_t k = first + component * per_layer + cell;
-                // As MasingTraction composes the traction, value by value.
-                const double part = composed ? (base ? base[k] : 0.0) + factor * ((1.0 - weight) * lower[k] + weight * upper[k])
-                                             : (shear ? shear[k] : 0.0);
-                sigma[component]  = pressure_part[k] + part + plus[component];
-                total[k]          = sigma[component];
-              }
-            const double xx = sigma[0], yy = sigma[1], zz = sigma[2], yz = sigma[3], xz = sigma[4], xy = sigma[5];
-            const double j2_times_6 = (xx - yy) * (xx - yy) + (yy - zz) * (yy - zz) + (zz - xx) * (zz - xx) +
-                                      6.0 * (yz * yz + xz * xz + xy * xy);
-            largest = std::max(largest, std::sqrt(0.5 * j2_times_6));
-          }
-      }
-    von_mises_largest = largest;
+    // The largest 6 J2 = 2 sigma_vM^2 (von_mises_max: sqrt is monotone, so
+    // its root is the largest root). A maximum does not depend on the order:
+    // neither the threads' split nor the vector lanes change it.
+    double largest = largest_six_j2;
+    // The shear given, composed as the traction is, or none: a branch-free
+    // loop for each, so that it vectorises.
+    enum Part { none, given, levels, levels_and_base };
+    const auto sum = [&](auto part, std::size_t first, const double *plus, std::size_t begin, std::size_t end,
+                         double &worst) {
+      // Locals, not the closure's references, which the stores might alias.
+      const std::size_t stride = per_layer;
+      const double     *p = pressure_part, *given_shear = shear, *from = base, *low = lower, *high = upper;
+      double           *out = total;
+      const double      f = factor, w = weight;
+      double            local = worst;
+#pragma omp simd reduction(max : local)
+      for (std::size_t cell = begin; cell < end; ++cell)
+        {
+          double sigma[stress_component_count];
+          for (int component = 0; component < stress_component_count; ++component)
+            {
+              const std::size_t k = first + component * stride + cell;
+              constexpr Part    kind = decltype(part)::value;
+              double            value = 0.0;
+              // As MasingTraction composes the traction, value by value.
+              if constexpr (kind == levels_and_base)
+                value = from[k] + f * ((1.0 - w) * low[k] + w * high[k]);
+              else if constexpr (kind == levels)
+                value = 0.0 + f * ((1.0 - w) * low[k] + w * high[k]);
+              else if constexpr (kind == given)
+                value = given_shear[k];
+              sigma[component] = p[k] + value + plus[component];
+              out[k]           = sigma[component];
+            }
+          const double xx = sigma[0], yy = sigma[1], zz = sigma[2], yz = sigma[3], xz = sigma[4], xy = sigma[5];
+          const double j2_times_6 = (xx - yy) * (xx - yy) + (yy - zz) * (yy - zz) + (zz - xx) * (zz - xx) +
+                                    6.0 * (yz * yz + xz * xz + xy * xy);
+          local = std::max(local, j2_times_6);
+        }
+      worst = std::max(worst, local);
+    };
+    // One parallel region for all layers, each thread a contiguous share of
+    // every layer.
+#pragma omp parallel if (layers * per_layer > 4096)
+    {
+      const std::size_t threads = static_cast<std::size_t>(omp_get_num_threads());
+      const std::size_t thread  = static_cast<std::size_t>(omp_get_thread_num());
+      const std::size_t begin = per_layer * thread / threads, end = per_layer * (thread + 1) / threads;
+      double            mine  = largest;
+      for (std::size_t layer = 0; layer < layers; ++layer)
+        {
+          const std::size_t first = layer * stress_component_count * per_layer;
+          const double *plus = add[layer].data();
+          if (lower && base)
+            sum(std::integral_constant<Part, levels_and_base>{}, first, plus, begin, end, mine);
+          else if (lower)
+            sum(std::integral_constant<Part, levels>{}, first, plus, begin, end, mine);
+          else if (shear)
+            sum(std::integral_constant<Part, given>{}, first, plus, begin, end, mine);
+          else
+            sum(std::integral_constant<Part, none>{}, first, plus, begin, end, mine);
+        }
+#pragma omp critical(fretting_run_von_mises)
+      largest = std::max(largest, mine);
+    }
+    largest_six_j2 = largest;
   }
 
   RiskMaximum FrettingRun::risk_maximum() const

@@ -14,6 +14,7 @@
 #include <fretsim/contact/tangential_traction_model.h>
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -136,7 +137,7 @@ namespace fretsim::contact
     int                            most_traction_iterations() const { return iterations_most; }
     /// The largest von Mises stress of the total stress (contact and bulk)
     /// over the points and the steps so far, the initial state included [Pa].
-    double von_mises_max() const { return von_mises_largest; }
+    double von_mises_max() const { return std::sqrt(0.5 * largest_six_j2); }
     /// True if the stresses are composed from the virgin levels' (class comment).
     bool stresses_superposed() const { return masing != nullptr; }
 
@@ -165,7 +166,7 @@ namespace fretsim::contact
     const MasingTraction                    *masing = nullptr; ///< set: superposed stresses
     std::vector<StressField>                 virgin_stress;   ///< per level; empty until used
     std::map<std::int64_t, StressField>      reversal_stress; ///< by reversal id
-    double                                   von_mises_largest = 0.0;
+    double                                   largest_six_j2 = 0.0; ///< of the total stress, 6 J2 = 2 sigma_vM^2
     Field                                    no_load;
     std::int64_t                             step_index           = 0;
     double                                   current_displacement = 0.0, last_displacement = 0.0;

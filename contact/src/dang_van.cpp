@@ -591,8 +591,26 @@ namespace fretsim::contact
     advance(voigt, 1, stress_component_count, 0, n, 1);
   }
 
-  void DangVanField::advance(const double *values, std::size_t component_stride, std::size_t point_stride,
-                             std::size_t layer_stride, std::size_t plane, std::size_t layers)
+  void DangVanField::add_step(std::size_t plane, const BlockSource &source)
+  {
+    if (plane == 0 || n % plane != 0)
+      {
+        std::ostringstream message;
+        message << "Dang Van: layers of " << plane << " points do not make up the " << n << " points";
+        throw std::invalid_argument(message.str());
+      }
+    const std::size_t bad = advance(nullptr, 0, 0, 0, plane, n / plane, &source);
+    if (bad > 0)
+      {
+        std::ostringstream message;
+        message << "Dang Van: " << bad << " stress values at step " << steps - 1 << " are not finite";
+        throw std::invalid_argument(message.str());
+      }
+  }
+
+  std::size_t DangVanField::advance(const double *values, std::size_t component_stride, std::size_t point_stride,
+                                    std::size_t layer_stride, std::size_t plane, std::size_t layers,
+                                    const BlockSource *source)
   {
     const ResidualStressCentre method      = options.centre;
     const bool                 first_cycle = cycles == 0;
@@ -619,37 +637,66 @@ namespace fretsim::contact
     const double      *c         = mean_centre ? mean.data() : centre.data();
     std::int64_t      *peak_step = risk_peak_step.data();
     const std::size_t  points    = n;
-    std::size_t        infinite  = 0;
+    std::size_t        infinite  = 0, not_finite = 0;
 
     // Blocks of points within a layer: a branch-free pass over a block
     // (deviator, mean, Lode invariant, Newton's Tresca) that the compiler
     // vectorises, then the few near-repeated principal values by Jacobi.
-    constexpr std::size_t block  = 256;
+    constexpr std::size_t block  = block_size;
     const std::size_t     blocks = (plane + block - 1) / block;
     const std::int64_t    tasks  = static_cast<std::int64_t>(blocks * layers);
-#pragma omp parallel for reduction(+ : infinite) schedule(static) if (points > parallel_points)
+#pragma omp parallel for reduction(+ : infinite, not_finite) schedule(static) if (points > parallel_points)
     for (std::int64_t task = 0; task < tasks; ++task)
       {
         const std::size_t layer = static_cast<std::size_t>(task) / blocks;
         const std::size_t first = static_cast<std::size_t>(task) % blocks * block;
         const std::size_t count = std::min(block, plane - first);
         const std::size_t p0    = layer * plane + first;
-        const double     *in    = values + layer * layer_stride + first * point_stride;
+        const double     *in    = source ? nullptr : values + layer * layer_stride + first * point_stride;
         alignas(64) double load[stress_component_count][block], u[dim][block], w[dim][block];
         alignas(64) double norm[block], lode[block], tresca[block], denominator[block];
-        for (int comp = 0; comp < stress_component_count; ++comp)
-          for (std::size_t k = 0; k < count; ++k)
-            load[comp][k] = in[comp * component_stride + k * point_stride];
+        // Component planes read in place; interleaved tensors gathered first.
+        const double *component[stress_component_count];
+        if (source)
+          {
+            double *out[stress_component_count];
+            for (int comp = 0; comp < stress_component_count; ++comp)
+              out[comp] = load[comp];
+            (*source)(layer, first, count, out);
+            for (int comp = 0; comp < stress_component_count; ++comp)
+              {
+                std::size_t bad = 0;
+#pragma omp simd reduction(+ : bad)
+                for (std::size_t k = 0; k < count; ++k)
+                  bad += !(std::abs(load[comp][k]) <= std::numeric_limits<double>::max());
+                not_finite += bad;
+                component[comp] = load[comp];
+              }
+          }
+        else
+          for (int comp = 0; comp < stress_component_count; ++comp)
+            if (point_stride == 1)
+              component[comp] = in + comp * component_stride;
+            else
+              {
+                for (std::size_t k = 0; k < count; ++k)
+                  load[comp][k] = in[comp * component_stride + k * point_stride];
+                component[comp] = load[comp];
+              }
+        // The loops below keep to scalars (no local arrays), which the
+        // compiler vectorises; the arithmetic is that of coordinates() and
+        // unit_deviator(), operation for operation.
+        const double *sxx = component[xx], *syy = component[yy], *szz = component[zz];
+        const double *syz = component[yz], *sxz = component[xz], *sxy = component[xy];
 #pragma omp simd
         for (std::size_t k = 0; k < count; ++k)
           {
-            double sk[stress_component_count], uk[dim];
-            for (int comp = 0; comp < stress_component_count; ++comp)
-              sk[comp] = load[comp][k];
-            coordinates(sk, uk);
-            for (int d = 0; d < dim; ++d)
-              u[d][k] = uk[d];
-            denominator[k] = beta - alpha * ((sk[xx] + sk[yy] + sk[zz]) * third);
+            u[0][k]        = (2.0 * szz[k] - sxx[k] - syy[k]) * inverse_sqrt6;
+            u[1][k]        = (sxx[k] - syy[k]) * inverse_sqrt2;
+            u[2][k]        = sqrt2 * syz[k];
+            u[3][k]        = sqrt2 * sxz[k];
+            u[4][k]        = sqrt2 * sxy[k];
+            denominator[k] = beta - alpha * ((sxx[k] + syy[k] + szz[k]) * third);
           }
         if (update_mean)
           for (int d = 0; d < dim; ++d)
@@ -674,17 +721,20 @@ namespace fretsim::contact
         for (std::size_t k = 0; k < count; ++k)
           {
             // The Lode invariant as unit_deviator computes it.
-            const double r = std::sqrt(w[0][k] * w[0][k] + w[1][k] * w[1][k] + w[2][k] * w[2][k] +
-                                       w[3][k] * w[3][k] + w[4][k] * w[4][k]);
+            const double w0 = w[0][k], w1 = w[1][k], w2 = w[2][k], w3 = w[3][k], w4 = w[4][k];
+            const double r     = std::sqrt(w0 * w0 + w1 * w1 + w2 * w2 + w3 * w3 + w4 * w4);
             const double scale = 1.0 / r;
-            double       unit[dim], dg[3], o[3];
-            for (int d = 0; d < dim; ++d)
-              unit[d] = w[d][k] * scale;
-            deviator_matrix(unit, dg, o);
-            const double det = dg[0] * (dg[1] * dg[2] - o[0] * o[0]) - o[2] * (o[2] * dg[2] - o[0] * o[1]) +
-                               o[1] * (o[2] * o[0] - dg[1] * o[1]);
-            norm[k] = r;
-            lode[k] = std::min(1.0, std::max(-1.0, 3.0 * sqrt6 * det));
+            const double a0 = w0 * scale, a1 = w1 * scale, a2 = w2 * scale, a3 = w3 * scale, a4 = w4 * scale;
+            const double d2 = 2.0 * a0 * inverse_sqrt6;
+            const double d0 = -a0 * inverse_sqrt6 + a1 * inverse_sqrt2;
+            const double d1 = -a0 * inverse_sqrt6 - a1 * inverse_sqrt2;
+            const double o0 = a2 * inverse_sqrt2, o1 = a3 * inverse_sqrt2, o2 = a4 * inverse_sqrt2;
+            const double det = d0 * (d1 * d2 - o0 * o0) - o2 * (o2 * d2 - o0 * o1) + o1 * (o2 * o0 - d1 * o1);
+            double       x   = 3.0 * sqrt6 * det;
+            x                = x < -1.0 ? -1.0 : x; // std::clamp's order
+            x                = 1.0 < x ? 1.0 : x;
+            norm[k]          = r;
+            lode[k]          = x;
           }
 #pragma omp simd
         for (std::size_t k = 0; k < count; ++k)
@@ -706,7 +756,10 @@ namespace fretsim::contact
             else
               ++infinite;
             now[p] = risk;
-            if (count_maximum && (risk > peak[p] || peak_step[p] < 0))
+            // peak_step < 0 means peak = 0 (never set), so that test is only
+            // needed when risk > peak fails there: it spares reading
+            // peak_step for every point.
+            if (count_maximum && (risk > peak[p] || (!(risk > 0.0) && peak_step[p] < 0)))
               {
                 peak[p]      = risk;
                 peak_step[p] = step;
@@ -718,6 +771,7 @@ namespace fretsim::contact
     ++cycle_steps;
     if (options.steps_per_cycle > 0 && cycle_steps >= options.steps_per_cycle)
       end_cycle();
+    return not_finite;
   }
 
   void DangVanField::end_cycle()

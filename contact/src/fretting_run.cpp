@@ -8,7 +8,13 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
+#include <new>
 #include <type_traits>
+
+#if __has_include(<sys/mman.h>)
+#include <sys/mman.h>
+#endif
 
 #include <omp.h>
 
@@ -142,7 +148,10 @@ namespace fretsim::contact
           const double levels = std::ceil(std::abs(setup.sliding_amplitude) / spacing) + 2.0;
           const double bytes  = levels * static_cast<double>(total_stress.values.size()) * sizeof(double);
           if (bytes <= static_cast<double>(setup.superposition_budget))
-            masing = model;
+            {
+              masing        = model;
+              virgin_stress = std::make_unique<LevelStore>(static_cast<std::size_t>(levels), total_stress.values.size());
+            }
         }
   }
 
@@ -184,13 +193,18 @@ namespace fretsim::contact
           compose_shear(before, reversal_stress[recipe.reversal]);
         for (auto kept = reversal_stress.begin(); kept != reversal_stress.end();)
           kept = masing->holds_reversal(kept->first) ? std::next(kept) : reversal_stress.erase(kept);
-        add_superposed_stresses(recipe);
+        // The levels' stresses the step needs, evaluated before the sum.
+        level_stresses(recipe.lower);
+        level_stresses(recipe.upper);
+        times.stresses += seconds_since(start);
+        // The sum, von Mises and Dang Van in one pass over the points.
+        start = Clock::now();
+        superposed_step(recipe);
+        times.dang_van += seconds_since(start);
+        return;
       }
-    else
-      {
-        stresses->evaluate(no_load, traction_model->traction_x(), traction_model->traction_y(), shear_stress);
-        add_stresses(&shear_stress);
-      }
+    stresses->evaluate(no_load, traction_model->traction_x(), traction_model->traction_y(), shear_stress);
+    add_stresses(&shear_stress);
     times.stresses += seconds_since(start);
 
     start = Clock::now();
@@ -198,21 +212,67 @@ namespace fretsim::contact
     times.dang_van += seconds_since(start);
   }
 
-  const StressField &FrettingRun::level_stresses(std::size_t level)
+  /// One block for the stresses of all levels the history can reach, in
+  /// transparent huge pages where the system offers them: 200 MB in 4 KiB
+  /// pages would cost ~50000 page faults, a noticeable part of the run.
+  /// Levels past the estimate (not expected) go to separate fields.
+  struct FrettingRun::LevelStore
   {
-    if (virgin_stress.size() <= level)
-      virgin_stress.resize(level + 1);
-    StressField &field = virgin_stress[level];
-    if (field.values.empty())
-      stresses->evaluate(no_load, masing->virgin_level_x(level), masing->virgin_level_y(level), field);
+    struct Free
+    {
+      void operator()(double *pointer) const { std::free(pointer); }
+    };
+    std::unique_ptr<double, Free>      block;
+    std::size_t                        field_size = 0, capacity = 0;
+    std::vector<char>                  ready;
+    std::map<std::size_t, StressField> beyond;
+    StressField                        scratch;
+
+    /// A level already evaluated.
+    const double *level(std::size_t k) const
+    {
+      return k < capacity ? block.get() + k * field_size : beyond.at(k).values.data();
+    }
+
+    LevelStore(std::size_t levels, std::size_t values) : field_size(values), capacity(levels), ready(levels, 0)
+    {
+      constexpr std::size_t huge  = std::size_t(2) << 20;
+      const std::size_t     bytes = (levels * values * sizeof(double) + huge - 1) / huge * huge;
+      block.reset(static_cast<double *>(std::aligned_alloc(huge, bytes)));
+      if (!block)
+        throw std::bad_alloc();
+#ifdef MADV_HUGEPAGE
+      madvise(block.get(), bytes, MADV_HUGEPAGE); // advice only: failure is harmless
+#endif
+    }
+  };
+
+  const double *FrettingRun::level_stresses(std::size_t level)
+  {
+    LevelStore &store = *virgin_stress;
+    if (level >= store.capacity)
+      {
+        StressField &field = store.beyond[level];
+        if (field.values.empty())
+          stresses->evaluate(no_load, masing->virgin_level_x(level), masing->virgin_level_y(level), field);
+        return field.values.data();
+      }
+    double *field = store.block.get() + level * store.field_size;
+    if (!store.ready[level])
+      {
+        stresses->evaluate(no_load, masing->virgin_level_x(level), masing->virgin_level_y(level), store.scratch);
+        std::copy(store.scratch.values.begin(), store.scratch.values.end(), field);
+        store.ready[level] = 1;
+      }
     return field;
   }
 
   void FrettingRun::compose_shear(const MasingTraction::Composition &recipe, StressField &out)
   {
-    const double *lower = level_stresses(recipe.lower).values.data();
-    const double *upper = level_stresses(recipe.upper).values.data();
-    const double *base  = recipe.reversal >= 0 ? reversal_stress.at(recipe.reversal).values.data() : nullptr;
+    const double *lower = level_stresses(recipe.lower);
+    const double *upper = level_stresses(recipe.upper);
+    const double *base  = recipe.reversal >= 0 ? reversal_stress.at(recipe.reversal).values.data()
+                                                : pressure_stress.values.data();
     out.resize(total_stress.n_layers, total_stress.ny, total_stress.nx);
     double           *result = out.values.data();
     const double      f = recipe.factor, w = recipe.weight;
@@ -220,28 +280,85 @@ namespace fretsim::contact
     // As MasingTraction composes the traction, value by value.
 #pragma omp parallel for simd schedule(static) if (size > 65536)
     for (std::int64_t k = 0; k < size; ++k)
-      result[k] = (base ? base[k] : 0.0) + f * ((1.0 - w) * lower[k] + w * upper[k]);
+      result[k] = base[k] + f * ((1.0 - w) * lower[k] + w * upper[k]);
   }
 
-  void FrettingRun::add_stresses(const StressField *shear)
+  namespace
   {
-    add_shear(shear ? shear->values.data() : nullptr, nullptr, 0.0, nullptr, nullptr, 0.0);
-  }
+    /// Where a step's stresses come from: sigma = pressure + shear + bulk with
+    /// the shear given or none, or sigma = base + f ((1 - w) lower + w upper)
+    /// + bulk, composed as the traction is, the base (the pressure's
+    /// stresses, plus a reversal's shear) including the pressure.
+    enum class Shear
+    {
+      none,
+      given,
+      composed
+    };
 
-  void FrettingRun::add_superposed_stresses(const MasingTraction::Composition &recipe)
-  {
-    const double *lower = level_stresses(recipe.lower).values.data();
-    const double *upper = level_stresses(recipe.upper).values.data();
-    const double *base  = recipe.reversal >= 0 ? reversal_stress.at(recipe.reversal).values.data() : nullptr;
-    add_shear(nullptr, base, recipe.factor, lower, upper, recipe.weight);
-  }
+    struct StressParts
+    {
+      const double *pressure = nullptr, *given = nullptr, *base = nullptr, *lower = nullptr, *upper = nullptr;
+      double        factor = 0.0, weight = 0.0;
 
-  void FrettingRun::add_shear(const double *shear, const double *base, double factor, const double *lower,
-                              const double *upper, double weight)
+      Shear kind() const { return lower ? Shear::composed : (given ? Shear::given : Shear::none); }
+    };
+
+    /// The six components of `count` points from value `offset` on (component
+    /// c at offset + c stride + k) into out[c][k]; returns the largest of
+    /// `largest` and their 6 J2 = 2 sigma_vM^2. Branch-free for each kind, so
+    /// that it vectorises.
+    template <Shear kind>
+    double sum_block(const StressParts &parts, std::size_t offset, std::size_t stride, const double *plus,
+                     std::size_t count, double *const *out, double largest)
+    {
+      const double *p = parts.pressure + offset, *given = parts.given + offset, *base = parts.base + offset;
+      const double *low = parts.lower + offset, *high = parts.upper + offset;
+      const double  f = parts.factor, w = parts.weight;
+#pragma omp simd reduction(max : largest)
+      for (std::size_t k = 0; k < count; ++k)
+        {
+          double sigma[stress_component_count];
+          for (int component = 0; component < stress_component_count; ++component)
+            {
+              const std::size_t at = component * stride + k;
+              // As MasingTraction composes the traction, value by value.
+              if constexpr (kind == Shear::composed)
+                sigma[component] = base[at] + f * ((1.0 - w) * low[at] + w * high[at]) + plus[component];
+              else if constexpr (kind == Shear::given)
+                sigma[component] = p[at] + given[at] + plus[component];
+              else
+                sigma[component] = p[at] + 0.0 + plus[component];
+              out[component][k] = sigma[component];
+            }
+          const double xx = sigma[0], yy = sigma[1], zz = sigma[2], yz = sigma[3], xz = sigma[4], xy = sigma[5];
+          const double j2_times_6 = (xx - yy) * (xx - yy) + (yy - zz) * (yy - zz) + (zz - xx) * (zz - xx) +
+                                    6.0 * (yz * yz + xz * xz + xy * xy);
+          largest = std::max(largest, j2_times_6);
+        }
+      return largest;
+    }
+
+    double sum_block(const StressParts &parts, std::size_t offset, std::size_t stride, const double *plus,
+                     std::size_t count, double *const *out, double largest)
+    {
+      switch (parts.kind())
+        {
+          case Shear::composed:
+            return sum_block<Shear::composed>(parts, offset, stride, plus, count, out, largest);
+          case Shear::given:
+            return sum_block<Shear::given>(parts, offset, stride, plus, count, out, largest);
+          case Shear::none:
+            break;
+        }
+      return sum_block<Shear::none>(parts, offset, stride, plus, count, out, largest);
+    }
+  } // namespace
+
+  std::vector<std::array<double, stress_component_count>> FrettingRun::bulk_parts() const
   {
-    const std::size_t per_layer = surface.size();
-    const std::size_t layers    = setup.depth_layers.size();
-    const bool        bulk      = !setup.bulk_stress.is_zero();
+    const std::size_t layers = setup.depth_layers.size();
+    const bool        bulk   = !setup.bulk_stress.is_zero();
     std::vector<std::array<double, stress_component_count>> add(layers);
     for (std::size_t layer = 0; layer < layers; ++layer)
       {
@@ -250,49 +367,22 @@ namespace fretsim::contact
         for (int component = 0; component < stress_component_count; ++component)
           add[layer][component] = bulk_here[component];
       }
-    const double *pressure_part = pressure_stress.values.data();
-    double       *total         = total_stress.values.data();
+    return add;
+  }
+
+  void FrettingRun::add_stresses(const StressField *shear)
+  {
+    const std::size_t per_layer = surface.size();
+    const std::size_t layers    = setup.depth_layers.size();
+    const auto        add       = bulk_parts();
+    StressParts       parts;
+    parts.pressure = pressure_stress.values.data();
+    parts.given    = shear ? shear->values.data() : nullptr;
+    double *total  = total_stress.values.data();
     // The largest 6 J2 = 2 sigma_vM^2 (von_mises_max: sqrt is monotone, so
     // its root is the largest root). A maximum does not depend on the order:
     // neither the threads' split nor the vector lanes change it.
     double largest = largest_six_j2;
-    // The shear given, composed as the traction is, or none: a branch-free
-    // loop for each, so that it vectorises.
-    enum Part { none, given, levels, levels_and_base };
-    const auto sum = [&](auto part, std::size_t first, const double *plus, std::size_t begin, std::size_t end,
-                         double &worst) {
-      // Locals, not the closure's references, which the stores might alias.
-      const std::size_t stride = per_layer;
-      const double     *p = pressure_part, *given_shear = shear, *from = base, *low = lower, *high = upper;
-      double           *out = total;
-      const double      f = factor, w = weight;
-      double            local = worst;
-#pragma omp simd reduction(max : local)
-      for (std::size_t cell = begin; cell < end; ++cell)
-        {
-          double sigma[stress_component_count];
-          for (int component = 0; component < stress_component_count; ++component)
-            {
-              const std::size_t k = first + component * stride + cell;
-              constexpr Part    kind = decltype(part)::value;
-              double            value = 0.0;
-              // As MasingTraction composes the traction, value by value.
-              if constexpr (kind == levels_and_base)
-                value = from[k] + f * ((1.0 - w) * low[k] + w * high[k]);
-              else if constexpr (kind == levels)
-                value = 0.0 + f * ((1.0 - w) * low[k] + w * high[k]);
-              else if constexpr (kind == given)
-                value = given_shear[k];
-              sigma[component] = p[k] + value + plus[component];
-              out[k]           = sigma[component];
-            }
-          const double xx = sigma[0], yy = sigma[1], zz = sigma[2], yz = sigma[3], xz = sigma[4], xy = sigma[5];
-          const double j2_times_6 = (xx - yy) * (xx - yy) + (yy - zz) * (yy - zz) + (zz - xx) * (zz - xx) +
-                                    6.0 * (yz * yz + xz * xz + xy * xy);
-          local = std::max(local, j2_times_6);
-        }
-      worst = std::max(worst, local);
-    };
     // One parallel region for all layers, each thread a contiguous share of
     // every layer.
 #pragma omp parallel if (layers * per_layer > 4096)
@@ -303,21 +393,70 @@ namespace fretsim::contact
       double            mine  = largest;
       for (std::size_t layer = 0; layer < layers; ++layer)
         {
-          const std::size_t first = layer * stress_component_count * per_layer;
-          const double *plus = add[layer].data();
-          if (lower && base)
-            sum(std::integral_constant<Part, levels_and_base>{}, first, plus, begin, end, mine);
-          else if (lower)
-            sum(std::integral_constant<Part, levels>{}, first, plus, begin, end, mine);
-          else if (shear)
-            sum(std::integral_constant<Part, given>{}, first, plus, begin, end, mine);
-          else
-            sum(std::integral_constant<Part, none>{}, first, plus, begin, end, mine);
+          const std::size_t offset = layer * stress_component_count * per_layer + begin;
+          double           *out[stress_component_count];
+          for (int component = 0; component < stress_component_count; ++component)
+            out[component] = total + offset + component * per_layer;
+          mine = sum_block(parts, offset, per_layer, add[layer].data(), end - begin, out, mine);
         }
 #pragma omp critical(fretting_run_von_mises)
       largest = std::max(largest, mine);
     }
     largest_six_j2 = largest;
+  }
+
+  void FrettingRun::superposed_step(const MasingTraction::Composition &recipe)
+  {
+    StressParts parts;
+    parts.pressure = pressure_stress.values.data();
+    parts.lower    = level_stresses(recipe.lower);
+    parts.upper    = level_stresses(recipe.upper);
+    parts.base     = recipe.reversal >= 0 ? reversal_stress.at(recipe.reversal).values.data() : parts.pressure;
+    parts.factor   = recipe.factor;
+    parts.weight   = recipe.weight;
+    const std::size_t per_layer = surface.size();
+    const auto        add       = bulk_parts();
+    // Per thread, a cache line apart; a maximum, so the split cannot change it.
+    constexpr std::size_t apart = 8;
+    std::vector<double>   largest(apart * static_cast<std::size_t>(omp_get_max_threads()), largest_six_j2);
+    dang_van->add_step(per_layer, [&](std::size_t layer, std::size_t first, std::size_t count, double *const *out) {
+      double &mine = largest[apart * static_cast<std::size_t>(omp_get_thread_num())];
+      mine = sum_block(parts, layer * stress_component_count * per_layer + first, per_layer, add[layer].data(), count,
+                       out, mine);
+    });
+    for (std::size_t thread = 0; thread < largest.size(); thread += apart)
+      largest_six_j2 = std::max(largest_six_j2, largest[thread]);
+    total_recipe  = recipe;
+    total_written = false;
+  }
+
+  const StressField &FrettingRun::stress() const
+  {
+    if (!total_written)
+      {
+        // The same sums as the Dang Van step read, written out.
+        StressParts parts;
+        parts.pressure = pressure_stress.values.data();
+        parts.lower    = virgin_stress->level(total_recipe.lower);
+        parts.upper    = virgin_stress->level(total_recipe.upper);
+        parts.base = total_recipe.reversal >= 0 ? reversal_stress.at(total_recipe.reversal).values.data()
+                                                : parts.pressure;
+        parts.factor = total_recipe.factor;
+        parts.weight = total_recipe.weight;
+        const std::size_t per_layer = surface.size();
+        const auto        add       = bulk_parts();
+        double           *total     = total_stress.values.data();
+        for (std::size_t layer = 0; layer < add.size(); ++layer)
+          {
+            const std::size_t offset = layer * stress_component_count * per_layer;
+            double           *out[stress_component_count];
+            for (int component = 0; component < stress_component_count; ++component)
+              out[component] = total + offset + component * per_layer;
+            sum_block(parts, offset, per_layer, add[layer].data(), per_layer, out, 0.0);
+          }
+        total_written = true;
+      }
+    return total_stress;
   }
 
   RiskMaximum FrettingRun::risk_maximum() const

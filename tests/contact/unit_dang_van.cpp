@@ -699,6 +699,54 @@ TEST(dang_van_field, StressFieldLayoutMatchesVoigtInput)
     }
 }
 
+TEST(dang_van_field, BlockSourceEqualsTheStressField)
+{
+  // The same steps given as a field and made block by block by a source
+  // (layers of 700 points: blocks end inside layers): the same values reach
+  // the same arithmetic, so D and D_max are equal bit for bit.
+  const int   layers = 3, ny = 20, nx = 35, steps_per_cycle = 8;
+  StressField stress;
+  stress.resize(layers, ny, nx);
+  const std::size_t plane = static_cast<std::size_t>(ny) * nx, n = layers * plane;
+  for (const auto centre : all_centres)
+    {
+      DangVanField from_field(n, paper, with(centre, steps_per_cycle));
+      DangVanField from_source(n, paper, with(centre, steps_per_cycle));
+      for (int step = 0; step < 3 * steps_per_cycle; ++step)
+        {
+          const double w = phase(step, steps_per_cycle);
+          for (int l = 0; l < layers; ++l)
+            for (int j = 0; j < ny; ++j)
+              for (int i = 0; i < nx; ++i)
+                for (int c = 0; c < 6; ++c)
+                  stress.at(l, c, j, i) = 1e8 * ((c + 1) * std::sin(w + 0.01 * (i + nx * j)) + 0.5 * c * std::cos(2 * w + l));
+          from_field.add_step(stress);
+          from_source.add_step(plane, [&](std::size_t layer, std::size_t first, std::size_t count, double *const *out) {
+            ASSERT_LE(count, DangVanField::block_size);
+            for (int c = 0; c < 6; ++c)
+              for (std::size_t k = 0; k < count; ++k)
+                out[c][k] = stress.values[(layer * 6 + c) * plane + first + k];
+          });
+          ASSERT_EQ(from_field.risk(), from_source.risk()) << to_string(centre);
+        }
+      EXPECT_EQ(from_field.risk_max(), from_source.risk_max());
+      EXPECT_EQ(from_field.risk_max_step(), from_source.risk_max_step());
+    }
+  DangVanField field(n, paper);
+  EXPECT_THROW(field.add_step(plane + 1, [](std::size_t, std::size_t, std::size_t, double *const *) {}),
+               std::invalid_argument);
+  EXPECT_EQ(field.step_count(), 0);
+  // A non-finite value is reported after the step.
+  EXPECT_THROW(field.add_step(plane,
+                              [](std::size_t layer, std::size_t first, std::size_t count, double *const *out) {
+                                for (int c = 0; c < 6; ++c)
+                                  std::fill(out[c], out[c] + count, 1e8);
+                                if (layer == 2 && first == 0)
+                                  out[4][count - 1] = std::numeric_limits<double>::quiet_NaN();
+                              }),
+               std::invalid_argument);
+}
+
 TEST(dang_van_field, ProportionalPulsatingFieldMatchesClosedForm)
 {
   // 3 x 32 x 32 = 3072 points (above the OpenMP threshold, so the parallel

@@ -15,6 +15,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -104,6 +105,21 @@ namespace fretsim::contact
     /// voigt[6 p + c], c in xx, yy, zz, yz, xz, xy. Same checks.
     void add_step(const double *voigt, std::size_t point_count);
 
+    /// Fills the six components of `count` points of one layer, starting at
+    /// point `first` of the layer: component c of point first + k into
+    /// out[c][k] (c in xx, yy, zz, yz, xz, xy) [Pa].
+    using BlockSource =
+      std::function<void(std::size_t layer, std::size_t first, std::size_t count, double *const *out)>;
+    /// Most points a BlockSource is asked for at once.
+    static constexpr std::size_t block_size = 256;
+    /// One time step from stresses made block by block while the criterion
+    /// reads them (no stress field in memory): `plane` points a layer,
+    /// n_points / plane layers, point p = layer plane + i as above. `source`
+    /// is called concurrently for disjoint blocks. Throws std::invalid_argument
+    /// if plane does not divide n_points (state unchanged) or, after the step
+    /// (which then counts), if a value was not finite.
+    void add_step(std::size_t plane, const BlockSource &source);
+
     /// Ends the current load cycle. Throws std::logic_error if no step was
     /// added since the last cycle ended.
     void end_cycle();
@@ -138,8 +154,11 @@ namespace fretsim::contact
     /// One step; component c of point q of layer l at
     /// values[l layer_stride + c component_stride + q point_stride], `plane`
     /// points a layer.
-    void advance(const double *values, std::size_t component_stride, std::size_t point_stride,
-                 std::size_t layer_stride, std::size_t plane, std::size_t layers);
+    /// With `source`, the values come from it instead (values unused).
+    /// Returns the number of non-finite values met (only counted with a source).
+    std::size_t advance(const double *values, std::size_t component_stride, std::size_t point_stride,
+                        std::size_t layer_stride, std::size_t plane, std::size_t layers,
+                        const BlockSource *source = nullptr);
     void check_finite(const double *values, std::size_t count) const;
 
     std::size_t      n;

@@ -86,7 +86,9 @@ namespace fretsim::contact
     std::int64_t step = -1; ///< 0-based step that set it
   };
 
-  /// Seconds spent per stage so far.
+  /// Seconds spent per stage so far. With superposed stresses (FrettingRun)
+  /// the stresses are the virgin levels' and reversals' evaluations, and the
+  /// per-step sum is done within the Dang Van pass and counted there.
   struct FrettingStageTimes
   {
     double normal_contact = 0.0, traction = 0.0, stresses = 0.0, dang_van = 0.0;
@@ -128,7 +130,7 @@ namespace fretsim::contact
     const Field                   &pressure() const { return contact_pressure; }
     int                            normal_iterations() const { return normal_solver_iterations; }
     const TangentialTractionModel &traction() const { return *traction_model; }
-    const StressField             &stress() const { return total_stress; }
+    const StressField             &stress() const;
     const DangVanField            &risk() const { return *dang_van; }
     RiskMaximum                    risk_maximum() const;
     const SubsurfaceStress        &stress_evaluator() const { return *stresses; }
@@ -144,15 +146,17 @@ namespace fretsim::contact
   private:
     /// total = pressure + shear (if given) + bulk stress at the current time.
     void add_stresses(const StressField *shear);
-    /// The same with the shear composed as the traction is (see the class).
-    void add_superposed_stresses(const MasingTraction::Composition &recipe);
-    /// total = pressure + (shear, or base + factor ((1 - weight) lower + weight
-    /// upper) if lower is given) + bulk stress; the von Mises maximum.
-    void add_shear(const double *shear, const double *base, double factor, const double *lower,
-                   const double *upper, double weight);
-    /// The stresses of virgin level k, evaluated on first use.
-    const StressField &level_stresses(std::size_t level);
-    /// out = S(tau_r) + f ((1 - w) S(T_l) + w S(T_u)) for `recipe`.
+    /// The Dang Van step of the stresses composed by `recipe` (see the class),
+    /// summed block by block as the criterion reads them, with the von Mises
+    /// maximum; total_stress is written only when stress() asks for it.
+    void superposed_step(const MasingTraction::Composition &recipe);
+    /// The bulk stress on each layer at the current time (Voigt).
+    std::vector<std::array<double, stress_component_count>> bulk_parts() const;
+    /// The stresses of virgin level k (total_stress's layout), evaluated on
+    /// first use.
+    const double *level_stresses(std::size_t level);
+    /// out = S(p) + S(tau_r) + f ((1 - w) S(T_l) + w S(T_u)) for `recipe`, the
+    /// pressure's stresses included (and kept so in reversal_stress).
     void compose_shear(const MasingTraction::Composition &recipe, StressField &out);
 
     FrettingCase                             setup;
@@ -162,10 +166,14 @@ namespace fretsim::contact
     std::unique_ptr<SubsurfaceStress>        stresses;
     std::unique_ptr<TangentialTractionModel> traction_model;
     std::unique_ptr<DangVanField>            dang_van;
-    StressField                              pressure_stress, shear_stress, total_stress;
+    StressField                              pressure_stress, shear_stress;
+    mutable StressField                      total_stress;
+    mutable bool                             total_written = true; ///< false: stress() writes it
+    MasingTraction::Composition              total_recipe;         ///< of the step total_stress is of
     const MasingTraction                    *masing = nullptr; ///< set: superposed stresses
-    std::vector<StressField>                 virgin_stress;   ///< per level; empty until used
-    std::map<std::int64_t, StressField>      reversal_stress; ///< by reversal id
+    struct LevelStore;
+    std::unique_ptr<LevelStore>              virgin_stress;   ///< the levels' stresses
+    std::map<std::int64_t, StressField>      reversal_stress; ///< by reversal id, the pressure's included
     double                                   largest_six_j2 = 0.0; ///< of the total stress, 6 J2 = 2 sigma_vM^2
     Field                                    no_load;
     std::int64_t                             step_index           = 0;

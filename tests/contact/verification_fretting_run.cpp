@@ -68,7 +68,7 @@ namespace
 // Stresses are linear in the traction, so composing them as the traction is
 // composed changes only the rounding: per value a few additions and the FFT
 // evaluator's round-off of each part, ~1e-16 of the largest stress each.
-// Measured at most 2.6e-16 of the largest stress and 1.1e-15 in D (D ~ 0.7)
+// Measured at most 2.9e-16 of the largest stress and 1.3e-15 in D (D ~ 0.7)
 // over the two tests; tolerances 1e-14 for both, with a sliding along x and
 // one at an angle (both traction components), and a bulk stress on top.
 TEST(FrettingRunSuperposition, EqualsAStressEvaluationPerStep)

@@ -7,13 +7,15 @@
 //
 //   build/bench/bench_fretting_run --benchmark_repetitions=3
 //
-// path: 0 = the reference path (a stress evaluation per step, the per-point
-// Dang Van step), 1 = the default (FrettingCase::fast_path).
+// path: 0 = FrettingCase::superposed_stresses off (a stress evaluation per
+// step, then the Dang Van step over the stress field), 1 = the default (the
+// stresses composed from the virgin levels', summed within the Dang Van
+// pass). threads: OpenMP threads (1 measures the work whatever the load of
+// the machine; the traction solve is serial either way).
 #include <fretsim/contact/fretting_run.h>
 
 #include <benchmark/benchmark.h>
-
-#include <cstdio>
+#include <omp.h>
 
 using namespace fretsim::contact;
 
@@ -48,6 +50,8 @@ namespace
     const int    cells = static_cast<int>(state.range(0));
     FrettingCase c     = paper_case();
     c.superposed_stresses = state.range(1) != 0;
+    const int threads     = omp_get_max_threads();
+    omp_set_num_threads(static_cast<int>(state.range(2)));
     const SurfaceGrid  grid = fretting_grid(c, cells, cells, 1.5);
     FrettingStageTimes times;
     RiskMaximum        worst;
@@ -60,6 +64,7 @@ namespace
         worst = run.risk_maximum();
         benchmark::DoNotOptimize(run.risk().risk_max().data());
       }
+    omp_set_num_threads(threads);
     state.counters["normal_s"]   = times.normal_contact;
     state.counters["traction_s"] = times.traction;
     state.counters["stresses_s"] = times.stresses;
@@ -69,11 +74,8 @@ namespace
 } // namespace
 
 BENCHMARK(BM_FrettingRun)
-  ->ArgNames({"n", "path"})
-  ->Args({64, 0})
-  ->Args({64, 1})
-  ->Args({128, 0})
-  ->Args({128, 1})
+  ->ArgNames({"n", "path", "threads"})
+  ->ArgsProduct({{64, 128}, {0, 1}, {2, 1}})
   ->Unit(benchmark::kSecond)
   ->UseRealTime()
   ->Iterations(1);

@@ -80,16 +80,20 @@ namespace fretsim::contact::detail
     /// Real transforms of the xx, xy, yy kernels, divided by the padded size.
     std::vector<double> kernel_xx, kernel_xy, kernel_yy;
 
-    fftw_plan forward  = nullptr;
-    fftw_plan backward = nullptr;
+    fftw_plan forward = nullptr; ///< full 2-D r2c, for the kernels
+    /// The products: the input is zero outside the mx x my window and only the
+    /// window of the output is read, so the 2-D transforms are done as row
+    /// and column passes that skip the my zero rows on the way in and the my
+    /// unread rows on the way out (3/4 of a full 2-D transform's work each).
+    fftw_plan rows_forward = nullptr, columns_forward = nullptr;
+    fftw_plan columns_inverse = nullptr, rows_inverse = nullptr;
 
     ~Buffers()
     {
       std::lock_guard<std::mutex> lock(fftw_planner_mutex());
-      if (forward)
-        fftw_destroy_plan(forward);
-      if (backward)
-        fftw_destroy_plan(backward);
+      for (fftw_plan plan : {forward, rows_forward, columns_forward, columns_inverse, rows_inverse})
+        if (plan)
+          fftw_destroy_plan(plan);
     }
   };
 
@@ -114,10 +118,21 @@ namespace fretsim::contact::detail
       const unsigned flags = measure_plans ? FFTW_MEASURE : FFTW_ESTIMATE;
       if (!measure_plans)
         forget_planner_history();
-      b.forward  = fftw_plan_dft_r2c_2d(py, px, b.real_x.get(), b.spectrum_x.get(), flags);
-      b.backward = fftw_plan_dft_c2r_2d(py, px, b.spectrum_x.get(), b.real_x.get(), flags);
+      const int cx = mx + 1; // complex values of a row's r2c transform
+      b.forward = fftw_plan_dft_r2c_2d(py, px, b.real_x.get(), b.spectrum_x.get(), flags);
+      // my rows of px reals -> my rows of cx (the other my rows are zero) ...
+      b.rows_forward = fftw_plan_many_dft_r2c(1, &px, my, b.real_x.get(), nullptr, 1, px, b.spectrum_x.get(), nullptr,
+                                              1, cx, flags);
+      // ... then cx columns of py, in place; back the same way, keeping rows
+      // 0..my-1.
+      b.columns_forward = fftw_plan_many_dft(1, &py, cx, b.spectrum_x.get(), nullptr, cx, 1, b.spectrum_x.get(),
+                                             nullptr, cx, 1, FFTW_FORWARD, flags);
+      b.columns_inverse = fftw_plan_many_dft(1, &py, cx, b.spectrum_x.get(), nullptr, cx, 1, b.spectrum_x.get(),
+                                             nullptr, cx, 1, FFTW_BACKWARD, flags);
+      b.rows_inverse = fftw_plan_many_dft_c2r(1, &px, my, b.spectrum_x.get(), nullptr, 1, cx, b.real_x.get(), nullptr,
+                                              1, px, flags);
     }
-    if (!b.forward || !b.backward)
+    if (!b.forward || !b.rows_forward || !b.columns_forward || !b.columns_inverse || !b.rows_inverse)
       throw std::runtime_error("BlockConvolution: FFTW could not create the plans");
 
     // Wrap-around order: offsets 0..m-1 at 0..m-1, -(m-1)..-1 at m+1..2m-1,
@@ -155,8 +170,10 @@ namespace fretsim::contact::detail
 
   void BlockConvolution::clear()
   {
-    std::fill(buffers->real_x.get(), buffers->real_x.get() + buffers->padded_size, 0.0);
-    std::fill(buffers->real_y.get(), buffers->real_y.get() + buffers->padded_size, 0.0);
+    // Only the window's rows are read by execute().
+    const std::size_t read = static_cast<std::size_t>(my) * 2 * mx;
+    std::fill(buffers->real_x.get(), buffers->real_x.get() + read, 0.0);
+    std::fill(buffers->real_y.get(), buffers->real_y.get() + read, 0.0);
   }
 
   double *BlockConvolution::input_x() { return buffers->real_x.get(); }
@@ -166,10 +183,17 @@ namespace fretsim::contact::detail
 
   void BlockConvolution::execute()
   {
-    Buffers &b = *buffers;
-    fftw_execute_dft_r2c(b.forward, b.real_x.get(), b.spectrum_x.get());
-    fftw_execute_dft_r2c(b.forward, b.real_y.get(), b.spectrum_y.get());
-    fftw_complex *sx = b.spectrum_x.get(), *sy = b.spectrum_y.get();
+    Buffers          &b       = *buffers;
+    fftw_complex     *sx      = b.spectrum_x.get(), *sy = b.spectrum_y.get();
+    const std::size_t cx      = static_cast<std::size_t>(mx) + 1;
+    const std::size_t zero_at = static_cast<std::size_t>(my) * cx; // rows my..2my-1 of the spectrum
+    for (fftw_complex *spectrum : {sx, sy})
+      {
+        double *real = spectrum == sx ? b.real_x.get() : b.real_y.get();
+        fftw_execute_dft_r2c(b.rows_forward, real, spectrum);
+        std::fill_n(&spectrum[zero_at][0], 2 * (b.spectrum_size - zero_at), 0.0);
+        fftw_execute_dft(b.columns_forward, spectrum, spectrum);
+      }
     const double *kxx = b.kernel_xx.data(), *kxy = b.kernel_xy.data(), *kyy = b.kernel_yy.data();
     for (std::size_t n = 0; n < b.spectrum_size; ++n)
       {
@@ -179,8 +203,12 @@ namespace fretsim::contact::detail
         sy[n][0] = kxy[n] * tx_re + kyy[n] * ty_re;
         sy[n][1] = kxy[n] * tx_im + kyy[n] * ty_im;
       }
-    fftw_execute_dft_c2r(b.backward, b.spectrum_x.get(), b.real_x.get());
-    fftw_execute_dft_c2r(b.backward, b.spectrum_y.get(), b.real_y.get());
+    for (fftw_complex *spectrum : {sx, sy})
+      {
+        double *real = spectrum == sx ? b.real_x.get() : b.real_y.get();
+        fftw_execute_dft(b.columns_inverse, spectrum, spectrum);
+        fftw_execute_dft_c2r(b.rows_inverse, spectrum, real);
+      }
   }
 
   int fft_friendly_size(int m)

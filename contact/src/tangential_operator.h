@@ -33,8 +33,9 @@ namespace fretsim::contact::detail
   /// two forward and two inverse real FFTs plus 2 x 2 real multiplies.
   ///
   /// Use: clear(), write the tractions into input_x()/input_y() at
-  /// padded_index(i, j) (window coordinates), execute(), read the
-  /// displacements from output_x()/output_y() at the same indices.
+  /// padded_index(i, j) (window coordinates, 0 <= i < mx, 0 <= j < my),
+  /// execute(), read the displacements from output_x()/output_y() at the same
+  /// indices (only the window's: the rest of the padded arrays is scratch).
   class BlockConvolution
   {
   public:

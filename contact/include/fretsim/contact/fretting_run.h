@@ -68,9 +68,9 @@ namespace fretsim::contact
     bool superposed_stresses = true;
     /// Memory the superposition may keep [bytes]: the stresses of every
     /// virgin level, (amplitude / level spacing + 2) x layers x 6 x cells
-    /// doubles (200 MB at 128^2 with 5 layers and 50 levels). Above it, a
-    /// stress evaluation per step.
-    std::size_t superposition_budget = std::size_t(1) << 30;
+    /// doubles (52 levels at 200 steps a cycle: 200 MB at 128^2 with 5
+    /// layers, 800 MB at 256^2). Above it, a stress evaluation per step.
+    std::size_t superposition_budget = std::size_t(512) << 20;
 
     /// Hertz semi-axes (a_x, a_y) of the case [m].
     std::pair<double, double> hertz_semi_axes() const;

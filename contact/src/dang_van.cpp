@@ -642,10 +642,13 @@ namespace fretsim::contact
     // Blocks of points within a layer: a branch-free pass over a block
     // (deviator, mean, Lode invariant, Newton's Tresca) that the compiler
     // vectorises, then the few near-repeated principal values by Jacobi.
+    // Handed out 8 blocks at a time as threads come free: on a loaded machine
+    // a thread that loses its core does not hold the others up. Each point's
+    // arithmetic is the same whichever thread does it.
     constexpr std::size_t block  = block_size;
     const std::size_t     blocks = (plane + block - 1) / block;
     const std::int64_t    tasks  = static_cast<std::int64_t>(blocks * layers);
-#pragma omp parallel for reduction(+ : infinite, not_finite) schedule(static) if (points > parallel_points)
+#pragma omp parallel for reduction(+ : infinite, not_finite) schedule(dynamic, 8) if (points > parallel_points)
     for (std::int64_t task = 0; task < tasks; ++task)
       {
         const std::size_t layer = static_cast<std::size_t>(task) / blocks;

@@ -103,8 +103,9 @@ namespace fretsim::contact
   /// (and FrettingCase::superposed_stresses) the stresses of each virgin level
   /// are evaluated once, when first used, and those of a reversal's traction
   /// composed when the reversal occurs. A step then costs a few additions per
-  /// value instead of a stress evaluation; the result differs from evaluating
-  /// S(tau) by round-off only (verification_fretting_run).
+  /// value, done as the Dang Van step reads them, instead of a stress
+  /// evaluation; the result differs from evaluating S(tau) by round-off only
+  /// (verification_fretting_run). The memory: FrettingCase::superposition_budget.
   class FrettingRun
   {
   public:
@@ -130,6 +131,8 @@ namespace fretsim::contact
     const Field                   &pressure() const { return contact_pressure; }
     int                            normal_iterations() const { return normal_solver_iterations; }
     const TangentialTractionModel &traction() const { return *traction_model; }
+    /// The total stress of the last step (written on the first call after a
+    /// superposed step; not to be called from two threads at once).
     const StressField             &stress() const;
     const DangVanField            &risk() const { return *dang_van; }
     RiskMaximum                    risk_maximum() const;

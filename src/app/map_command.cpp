@@ -420,10 +420,14 @@ namespace fretsim::app
                 out << ",";
                 if (found != record.numbers.end())
                   out << found->second;
+                else
+                  out << "nan";
               }
+            // The message as one plain cell: readable by any CSV reader.
             std::string message = record.message;
-            std::replace(message.begin(), message.end(), '"', '\'');
-            out << ",\"" << message << "\"\n";
+            for (char &c : message)
+              c = c == ',' ? ';' : c == '\n' || c == '"' ? ' ' : c;
+            out << "," << message << "\n";
           }
         if (!out)
           throw std::runtime_error("cannot write '" + temporary + "'");

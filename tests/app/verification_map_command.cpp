@@ -252,3 +252,67 @@ TEST(MapCommand, BisectedBoundaryLiesWithinTheGridSpacingOfTheGridCrossing)
   EXPECT_LE(boundary[0].at("bracket high") - boundary[0].at("bracket low"), 1e-3 * 5e-6 * (1 + 1e-9));
   EXPECT_TRUE(std::filesystem::exists(folder / "map.png"));
 }
+
+// The bearing scene over two inner-ring displacements: the small ring's model
+// is built once before the points, every point keeps its run folder and its
+// record holds the run's D_max and peak pressure, those of a single run of the
+// same parameters on one core. (On two cores the sums round differently and
+// the adaptive steps follow: 1.2e-3 in D_max, 5e-5 in the peak pressure.)
+TEST(MapCommand, BearingSceneMapBuildsTheModelOnceAndRecordsEachRun)
+{
+  const auto        directory = test_files::scratch_directory("map-bearing");
+  const std::string one_pass  = " --set 'Loading/Ball pass periods=1.5'";
+  test_files::write_text(directory / "ring.prm", test_files::small_ring);
+  test_files::write_text(directory / "scene.prm", test_files::small_bearing_scene(directory));
+  const auto folder = directory / "map";
+  const auto result = run_program("map " + (directory / "scene.prm").string() + " -o " + folder.string() +
+                                  " --axis 'Loading/Inner ring displacement y=40e-6:60e-6:2'" + one_pass);
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  std::size_t builds = 0;
+  for (auto at = result.output.find("building it"); at != std::string::npos; at = result.output.find("building it", at + 1))
+    ++builds;
+  EXPECT_EQ(builds, 1u) << result.output;
+  for (const char *file : {"map.h5", "map.csv", "map.png", "points/point_000000/results.h5",
+                           "points/point_000001/summary.json"})
+    EXPECT_TRUE(std::filesystem::exists(folder / file)) << file;
+  const auto records = records_of(folder);
+  ASSERT_EQ(records.size(), 2u);
+  for (const auto &[index, record] : records)
+    {
+      EXPECT_EQ(record.status, "ok") << record.message;
+      EXPECT_GT(record.numbers.at("risk_max"), 0.0);
+      EXPECT_GT(record.numbers.at("peak_pressure_Pa"), 0.0);
+    }
+  // The larger displacement loads the ring more.
+  EXPECT_GT(records.at(1).numbers.at("peak_pressure_Pa"), records.at(0).numbers.at("peak_pressure_Pa"));
+  setenv("OMP_NUM_THREADS", "1", 1);
+  const auto single = run_program("run " + (directory / "scene.prm").string() + " -q --no-plots -o " +
+                                  (directory / "single").string() +
+                                  " --set 'Loading/Inner ring displacement y=60e-6'" + one_pass);
+  unsetenv("OMP_NUM_THREADS");
+  ASSERT_EQ(single.exit_code, 0) << single.output;
+  const auto summary = test_files::read_text(directory / "single" / "summary.json");
+  for (const char *name : {"risk_max", "peak_pressure_Pa"})
+    EXPECT_NEAR(records.at(1).numbers.at(name), test_files::summary_number(summary, name),
+                1e-12 * test_files::summary_number(summary, name))
+      << name;
+}
+
+// A point whose values the scene refuses (warm-up cycles reaching the cycles:
+// a cross-check no single parameter's range can make) is recorded as failed
+// with the scene's message, and the map goes on to its other points.
+TEST(MapCommand, AFailingPointIsRecordedWithItsMessageAndTheMapGoesOn)
+{
+  const auto directory = test_files::scratch_directory("map-failing");
+  const auto scene     = small_scene_file(directory);
+  const auto result    = run_program("map " + scene.string() + " -o " + (directory / "out").string() +
+                                     " --axis 'Dang Van/Warm-up cycles=0:3:2' -q --no-plots");
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_NE(result.output.find("1 of 2 points failed"), std::string::npos) << result.output;
+  const auto records = records_of(directory / "out");
+  ASSERT_EQ(records.size(), 2u);
+  EXPECT_EQ(records.at(0).status, "ok") << records.at(0).message;
+  EXPECT_EQ(records.at(1).status, "failed");
+  EXPECT_NE(records.at(1).message.find("Warm-up cycles"), std::string::npos) << records.at(1).message;
+  EXPECT_TRUE(std::isnan(test_files::read_csv(directory / "out" / "map.csv")[1].at("risk_max")));
+}

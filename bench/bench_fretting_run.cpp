@@ -4,6 +4,7 @@
 // quarter cycle's steps apart, FFT stresses on 5 layers, running-mean Dang Van,
 // 3 cycles x 200 steps. One iteration = construction (normal contact) and all
 // steps. Counters: the stage times of the run [s] and D_max.
+// BM_RiskErrorEstimate: the coarser reruns the scene adds to a 128^2 run.
 //
 //   build/bench/bench_fretting_run --benchmark_repetitions=3
 //
@@ -16,6 +17,8 @@
 
 #include <benchmark/benchmark.h>
 #include <omp.h>
+
+#include <utility>
 
 using namespace fretsim::contact;
 
@@ -71,7 +74,41 @@ namespace
     state.counters["dang_van_s"] = times.dang_van;
     state.counters["D_max"]      = worst.value;
   }
+
+  /// The concentrated scene's grid and time-step error estimate of a 128^2
+  /// run, as it reruns the history: on 32^2 and 64^2, on 32^2 at half the time
+  /// step, and (the traction model check) 2 cycles on 32^2 with the exact
+  /// masing and the exact model; FFTW's estimated plans for the traction, as
+  /// the scene sets them.
+  void BM_RiskErrorEstimate(benchmark::State &state)
+  {
+    FrettingCase c                 = paper_case();
+    c.superposed_stresses          = state.range(0) != 0;
+    c.exact.measure_fft_plans      = false;
+    const int threads              = omp_get_max_threads();
+    omp_set_num_threads(static_cast<int>(state.range(1)));
+    FrettingCase half_step = c;
+    half_step.steps_per_cycle *= 2;
+    FrettingCase check = c;
+    check.cycles       = 2;
+    FrettingCase exact = check;
+    exact.traction_model = TractionModel::exact;
+    double sum = 0.0;
+    for (auto _ : state)
+      for (const auto &[k, cells] : {std::pair<const FrettingCase *, int>{&c, 32}, {&c, 64}, {&half_step, 32},
+                                     {&check, 32}, {&exact, 32}})
+        sum += fretting_risk_maximum(*k, fretting_grid(*k, cells, cells, 1.5)).value;
+    benchmark::DoNotOptimize(sum);
+    omp_set_num_threads(threads);
+  }
 } // namespace
+
+BENCHMARK(BM_RiskErrorEstimate)
+  ->ArgNames({"path", "threads"})
+  ->ArgsProduct({{0, 1}, {2, 1}})
+  ->Unit(benchmark::kSecond)
+  ->UseRealTime()
+  ->Iterations(1);
 
 BENCHMARK(BM_FrettingRun)
   ->ArgNames({"n", "path", "threads"})

@@ -244,6 +244,7 @@ namespace fretsim::scenes
       Spec::selection("Stresses/Evaluator", "fft",
                       "Subsurface stresses of the interface tractions on the half-space: fft (DC-FFT), mlmi, direct.",
                       "fft|mlmi|direct"),
+      fft_plans_parameter("Stresses/FFT plans"),
       increasing(list(Spec::non_negative("Stresses/Depth layers", "0, 1e-4, 5e-4",
                                          "Depths below the ring's outer surface of the stress and risk layers [m]."))),
       Spec::positive("Dang Van/Bending fatigue limit", "690e6", "f-1 of the ring steel [Pa]."),
@@ -401,6 +402,7 @@ namespace fretsim::scenes
     }
 
     s.stress_evaluator.method = par.get("Stresses/Evaluator");
+    s.stress_evaluator.measure_fft_plans = par.get("Stresses/FFT plans") == "measure";
     s.depth_layers            = par.get_double_list("Stresses/Depth layers");
     if (s.depth_layers.empty())
       par.reject("Stresses/Depth layers", "expected at least one depth z >= 0 [m]");

@@ -156,12 +156,7 @@ namespace fretsim::scenes
     specs.push_back(Spec::real_range("Grid/Half width factor", "1.5",
                                      "Half width of the grid in each direction, in units of the Hertz semi-axis in "
                                      "that direction [-].", 1, 100, true));
-    specs.push_back(Spec::selection("Grid/FFT plans", "measure",
-                                    "measure: FFTW times candidate transforms once and keeps the fastest "
-                                    "(faster runs; results can differ from another process's in the last "
-                                    "digits); estimate: plans chosen without timing, so every process gives "
-                                    "identical results (fretsim map uses it).",
-                                    "measure|estimate"));
+    specs.push_back(fft_plans_parameter("Grid/FFT plans"));
     specs.push_back(Spec::selection("Normal contact/Pressure model", "numerical",
                                     "numerical: elastic half-space solution on the grid (Polonsky-Keer CG with "
                                     "DC-FFT); hertz: the analytic Hertz pressure sampled at cell centres.",

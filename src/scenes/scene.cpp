@@ -49,8 +49,18 @@ namespace fretsim::scenes
   std::vector<std::pair<std::string, std::string>> map_point_settings(const std::string &scene)
   {
     if (scene == "bearing_housing")
-      return {{"Model/Build if missing", "false"}};
+      return {{"Model/Build if missing", "false"}, {"Stresses/FFT plans", "estimate"}};
     return {{"Grid/FFT plans", "estimate"}};
+  }
+
+  app::ParameterSpec fft_plans_parameter(const std::string &path)
+  {
+    return app::ParameterSpec::selection(path, "measure",
+                                         "measure: FFTW times candidate transforms once and keeps the fastest "
+                                         "(faster runs; results can differ from another process's in the last "
+                                         "digits); estimate: plans chosen without timing, so every process gives "
+                                         "identical results (fretsim map uses it).",
+                                         "measure|estimate");
   }
 
   bool runs_in_threads(const std::string &scene) { return scene == "concentrated"; }

@@ -59,6 +59,9 @@ namespace fretsim::scenes
   /// identical in every process (FFTW plans without timing), and nothing built
   /// on the way (prepare() built it).
   std::vector<std::pair<std::string, std::string>> map_point_settings(const std::string &scene);
+  /// The "FFT plans" parameter (measure | estimate) of a scene's FFTs, at `path`.
+  app::ParameterSpec fft_plans_parameter(const std::string &path);
+
   /// Whether runs of the scene may share a process in parallel threads (runs
   /// that write no files and plan FFTs under one lock); otherwise one at a time.
   bool runs_in_threads(const std::string &scene);

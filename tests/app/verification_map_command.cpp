@@ -256,8 +256,9 @@ TEST(MapCommand, BisectedBoundaryLiesWithinTheGridSpacingOfTheGridCrossing)
 // The bearing scene over two inner-ring displacements: the small ring's model
 // is built once before the points, every point keeps its run folder and its
 // record holds the run's D_max and peak pressure, those of a single run of the
-// same parameters on one core. (On two cores the sums round differently and
-// the adaptive steps follow: 1.2e-3 in D_max, 5e-5 in the peak pressure.)
+// same parameters on one core with the same FFT plans (on two cores the sums
+// round differently and the adaptive steps follow: 1.2e-3 in D_max, 5e-5 in
+// the peak pressure), and two MPI ranks give the same records.
 TEST(MapCommand, BearingSceneMapBuildsTheModelOnceAndRecordsEachRun)
 {
   const auto        directory = test_files::scratch_directory("map-bearing");
@@ -288,7 +289,8 @@ TEST(MapCommand, BearingSceneMapBuildsTheModelOnceAndRecordsEachRun)
   setenv("OMP_NUM_THREADS", "1", 1);
   const auto single = run_program("run " + (directory / "scene.prm").string() + " -q --no-plots -o " +
                                   (directory / "single").string() +
-                                  " --set 'Loading/Inner ring displacement y=60e-6'" + one_pass);
+                                  " --set 'Loading/Inner ring displacement y=60e-6' --set 'Stresses/FFT plans=estimate'" +
+                                  one_pass);
   unsetenv("OMP_NUM_THREADS");
   ASSERT_EQ(single.exit_code, 0) << single.output;
   const auto summary = test_files::read_text(directory / "single" / "summary.json");
@@ -296,6 +298,17 @@ TEST(MapCommand, BearingSceneMapBuildsTheModelOnceAndRecordsEachRun)
     EXPECT_NEAR(records.at(1).numbers.at(name), test_files::summary_number(summary, name),
                 1e-12 * test_files::summary_number(summary, name))
       << name;
+
+  // Two ranks on the same model file: the same records.
+  if (!mpiexec_available())
+    GTEST_SKIP() << "mpiexec not found: the two-rank map is not checked";
+  const std::string mpi = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpiexec -np 2 --oversubscribe " +
+                          std::string(FRETSIM_BINARY_DIR) + "/fretsim map " + (directory / "scene.prm").string() +
+                          " -o " + (directory / "ranks").string() +
+                          " --axis 'Loading/Inner ring displacement y=40e-6:60e-6:2' -q --no-plots" + one_pass +
+                          " > " + (directory / "ranks.log").string() + " 2>&1";
+  ASSERT_EQ(std::system(mpi.c_str()), 0) << test_files::read_text(directory / "ranks.log");
+  expect_identical(records, records_of(directory / "ranks"), "two MPI ranks against one process");
 }
 
 // A point whose values the scene refuses (warm-up cycles reaching the cycles:

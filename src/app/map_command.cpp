@@ -484,6 +484,210 @@ namespace fretsim::app
       const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
       return std::max(1, cores / ranks().on_node);
     }
+
+    /// One `fretsim map` command, stage by stage (every rank runs each).
+    class MapRun
+    {
+    public:
+      explicit MapRun(const MapOptions &options)
+        : options(options)
+        , map(define_map(options))
+      {}
+
+      void open()
+      {
+        const char *launched = std::getenv("OMPI_COMM_WORLD_SIZE");
+        if (!fem::ParallelEnvironment::active() && (launched || map.scene != "concentrated"))
+          mpi = std::make_unique<fem::ParallelEnvironment>();
+        r    = ranks();
+        root = r.rank == 0;
+        OutputPolicy policy;
+        policy.own_files   = {"map.h5", "map.csv", "map.csv.tmp", "map.png", "boundary.csv", "points/"};
+        policy.force       = options.force;
+        policy.resume_file = "map.h5";
+        std::vector<long> done;
+        if (root)
+          {
+            folder = std::make_unique<OutputFolder>(map.output_directory, policy);
+            std::vector<std::string> axis_names;
+            for (const auto &axis : map.axes)
+              axis_names.push_back(axis.text());
+            const std::string path = file_path("map.h5");
+            try
+              {
+                file = std::make_unique<output::MapFile>(path, map.scene, map.definition, axis_names,
+                                                         record_numbers());
+              }
+            catch (const output::MapFileMismatch &)
+              {
+                throw InputError("(command line)", "-o",
+                                 "'" + path + "' holds another map (other scene, parameters or axes); expected "
+                                 "the same command to continue it, or --force to start over");
+              }
+            for (const auto &record : file->records())
+              done.push_back(record.index);
+          }
+        else
+          OutputFolder::check(map.output_directory, policy);
+        done = broadcast(done);
+        already.insert(done.begin(), done.end());
+        jobs = jobs_per_rank(options, map.scene);
+      }
+
+      void prepare_scene() const
+      {
+        scenes::make_scene(scenes::load_parameters(map.config_file, options.overrides))->prepare();
+      }
+
+      /// False if interrupted.
+      bool run_points()
+      {
+        std::vector<long> pending;
+        for (long index = 0; index < map.size(); ++index)
+          if (!already.count(index))
+            pending.push_back(index);
+        if (options.max_points > 0 && static_cast<long>(pending.size()) > options.max_points)
+          pending.resize(static_cast<std::size_t>(options.max_points));
+        install_interrupt_handlers();
+        if (root)
+          std::cout << "map: " << map.size() << " points of scene " << map.scene << ", " << already.size()
+                    << " already in map.h5, " << pending.size() << " to run on " << r.size << " rank(s) × "
+                    << jobs << " thread(s)\n";
+        Progress progress("map", static_cast<long>(pending.size()), options.progress && root, "point");
+        long     collected = 0;
+        run_tasks(
+          static_cast<long>(pending.size()), jobs,
+          [&](long k) { return encode(evaluate(map, pending[k], map.point(pending[k]))); },
+          [&](const std::string &payload) {
+            const auto record = decode(payload);
+            if (record.status != "interrupted")
+              file->append(record);
+            progress.update(++collected, std::numeric_limits<double>::quiet_NaN());
+          });
+        progress.finish();
+        if (interrupt_requested())
+          {
+            if (root)
+              std::cerr << "fretsim: map interrupted; map.h5 holds the points done, the same command continues it\n";
+            return false;
+          }
+        if (root)
+          for (const auto &record : file->records())
+            grid[record.index] = record;
+        complete = root ? static_cast<long>(grid.size()) : 0;
+        if (fem::ParallelEnvironment::active())
+          MPI_Bcast(&complete, 1, MPI_LONG, 0, MPI_COMM_WORLD);
+        if (root && complete < map.size())
+          std::cout << "map: " << complete << " of " << map.size()
+                    << " points in map.h5; the same command continues the map\n";
+        return true;
+      }
+
+      /// Needs every point; the lines are spread like the points.
+      void locate_boundary()
+      {
+        if (complete < map.size())
+          return;
+        // Every rank needs the grid's risks to bracket its lines: their bits.
+        std::vector<long> bits;
+        if (root)
+          for (long index = 0; index < map.size(); ++index)
+            {
+              const double risk = risk_of(grid.at(index));
+              long         raw;
+              std::memcpy(&raw, &risk, sizeof raw);
+              bits.push_back(raw);
+            }
+        bits = broadcast(bits);
+        std::map<long, output::MapRecord> risks;
+        for (long index = 0; index < static_cast<long>(bits.size()); ++index)
+          {
+            double risk;
+            std::memcpy(&risk, &bits[index], sizeof risk);
+            risks[index].status              = std::isfinite(risk) ? "ok" : "failed";
+            risks[index].numbers["risk_max"] = risk;
+          }
+        const long lines = map.size() / static_cast<long>(map.values[0].size());
+        boundary.assign(static_cast<std::size_t>(lines), BoundaryLine{});
+        Progress line_progress("boundary", lines, options.progress && root, "line");
+        long     lines_done = 0;
+        run_tasks(
+          lines, jobs,
+          [&](long line) { return encode(bisect_line(map, risks, line, options.boundary_tolerance), line); },
+          [&](const std::string &payload) {
+            const auto [line, result] = decode_line(payload);
+            boundary[line]            = result;
+            line_progress.update(++lines_done, std::numeric_limits<double>::quiet_NaN());
+          });
+        line_progress.finish();
+      }
+
+      /// On rank 0: the files written.
+      std::vector<std::string> write_outputs()
+      {
+        if (!root)
+          return {};
+        std::vector<std::string> written{file_path("map.h5"), file_path("map.csv")};
+        write_csv(written.back(), map, grid);
+        if (!boundary.empty())
+          written.push_back(write_boundary());
+        long failed = 0;
+        for (const auto &[index, record] : grid)
+          failed += record.status == "failed";
+        if (failed > 0)
+          std::cerr << "fretsim: warning: " << failed << " of " << grid.size()
+                    << " points failed; map.csv gives each one's message\n";
+        file.reset();
+        if (options.plots)
+          for (const auto &figure : scenes::run_plot_script("plot_map.py", {map.output_directory}))
+            written.push_back(figure);
+        return written;
+      }
+
+    private:
+      std::string file_path(const std::string &name) const
+      {
+        return (fs::path(map.output_directory) / name).string();
+      }
+
+      /// boundary.csv and /boundary in map.h5.
+      std::string write_boundary()
+      {
+        std::vector<std::vector<double>> others;
+        std::vector<double>              value, low, high;
+        const std::string                path = file_path("boundary.csv");
+        std::ofstream                    out(path);
+        out.precision(10);
+        for (std::size_t k = 1; k < map.axes.size(); ++k)
+          out << map.axes[k].path << ",";
+        out << map.axes[0].path << " at D=1,bracket low,bracket high\n";
+        for (const auto &line : boundary)
+          {
+            others.push_back(line.others);
+            value.push_back(line.value);
+            low.push_back(line.low);
+            high.push_back(line.high);
+            for (const double v : line.others)
+              out << v << ",";
+            out << line.value << "," << line.low << "," << line.high << "\n";
+          }
+        file->write_boundary(others, value, low, high);
+        return path;
+      }
+
+      const MapOptions                         &options;
+      MapDefinition                             map;
+      std::unique_ptr<fem::ParallelEnvironment> mpi;
+      Ranks                                     r;
+      bool                                      root = true;
+      int                                       jobs = 1;
+      std::unique_ptr<OutputFolder>             folder;
+      std::unique_ptr<output::MapFile>          file;
+      std::set<long>                            already;
+      std::map<long, output::MapRecord>         grid; // rank 0: every record, by index
+      long                                      complete = 0;
+      std::vector<BoundaryLine>                 boundary;
+    };
   } // namespace
 
   MapAxis MapAxis::parse(const std::string &text)
@@ -542,175 +746,19 @@ namespace fretsim::app
   std::vector<std::string> run_map_command(const MapOptions &options)
   {
     // 1. The map's definition, checked in full before anything is written.
-    MapDefinition map = define_map(options);
-    // 2. MPI when launched by mpirun, or for a scene whose models every
-    //    point shares (built once, collectively).
-    std::unique_ptr<fem::ParallelEnvironment> mpi;
-    const char *launched = std::getenv("OMPI_COMM_WORLD_SIZE");
-    if (!fem::ParallelEnvironment::active() && (launched || map.scene != "concentrated"))
-      mpi = std::make_unique<fem::ParallelEnvironment>();
-    const Ranks r    = ranks();
-    const bool  root = r.rank == 0;
-
-    // 3. The output folder and map.h5: a new map, or the same map continued.
-    OutputPolicy policy;
-    policy.own_files   = {"map.h5", "map.csv", "map.csv.tmp", "map.png", "boundary.csv", "points/"};
-    policy.force       = options.force;
-    policy.resume_file = "map.h5";
-    std::unique_ptr<OutputFolder>    folder;
-    std::unique_ptr<output::MapFile> file;
-    std::vector<long>                done;
-    if (root)
-      {
-        folder = std::make_unique<OutputFolder>(map.output_directory, policy);
-        std::vector<std::string> axis_names;
-        for (const auto &axis : map.axes)
-          axis_names.push_back(axis.text());
-        const std::string map_path = (fs::path(map.output_directory) / "map.h5").string();
-        try
-          {
-            file = std::make_unique<output::MapFile>(map_path, map.scene, map.definition, axis_names,
-                                                     record_numbers());
-          }
-        catch (const output::MapFileMismatch &)
-          {
-            throw InputError("(command line)", "-o",
-                             "'" + map_path + "' holds another map (other scene, parameters or axes); expected "
-                             "the same command to continue it, or --force to start over");
-          }
-        for (const auto &record : file->records())
-          done.push_back(record.index);
-      }
-    else
-      OutputFolder::check(map.output_directory, policy);
-    done = broadcast(done);
-
-    // 4. What every point shares, built once.
-    scenes::make_scene(scenes::load_parameters(map.config_file, options.overrides))->prepare();
-
-    // 5. The points not yet in map.h5, spread over ranks and threads.
-    const std::set<long> already(done.begin(), done.end());
-    std::vector<long>    pending;
-    for (long index = 0; index < map.size(); ++index)
-      if (!already.count(index))
-        pending.push_back(index);
-    if (options.max_points > 0 && static_cast<long>(pending.size()) > options.max_points)
-      pending.resize(static_cast<std::size_t>(options.max_points));
-    install_interrupt_handlers();
-    const int jobs = jobs_per_rank(options, map.scene);
-    if (root)
-      std::cout << "map: " << map.size() << " points of scene " << map.scene << ", " << already.size()
-                << " already in map.h5, " << pending.size() << " to run on " << r.size << " rank(s) × " << jobs
-                << " thread(s)\n";
-    Progress progress("map", static_cast<long>(pending.size()), options.progress && root, "point");
-    long     collected = 0;
-    run_tasks(
-      static_cast<long>(pending.size()), jobs,
-      [&](long k) { return encode(evaluate(map, pending[k], map.point(pending[k]))); },
-      [&](const std::string &payload) {
-        const auto record = decode(payload);
-        if (record.status != "interrupted")
-          file->append(record);
-        progress.update(++collected, std::numeric_limits<double>::quiet_NaN());
-      });
-    progress.finish();
-    if (interrupt_requested())
-      {
-        if (root)
-          std::cerr << "fretsim: map interrupted; map.h5 holds the points done, the same command continues it\n";
-        return {};
-      }
-
-    // 6. The D = 1 boundary along each line of the first axis.
-    std::map<long, output::MapRecord> grid;
-    std::vector<std::string>          written;
-    if (root)
-      for (const auto &record : file->records())
-        grid[record.index] = record;
-    const long lines = map.size() / static_cast<long>(map.values[0].size());
-    std::vector<BoundaryLine> boundary(static_cast<std::size_t>(lines));
-    long complete = root ? static_cast<long>(grid.size()) : 0;
-    if (fem::ParallelEnvironment::active())
-      MPI_Bcast(&complete, 1, MPI_LONG, 0, MPI_COMM_WORLD);
-    if (root && complete < map.size())
-      std::cout << "map: " << complete << " of " << map.size()
-                << " points in map.h5; the same command continues the map\n";
-    if (options.boundary && complete == map.size())
-      {
-        // Every rank needs the grid's risks to bracket its lines.
-        std::vector<long> bits;
-        if (root)
-          for (long index = 0; index < map.size(); ++index)
-            {
-              const auto   found = grid.find(index);
-              const double risk  = found == grid.end() ? std::numeric_limits<double>::quiet_NaN() : risk_of(found->second);
-              long         raw;
-              std::memcpy(&raw, &risk, sizeof raw);
-              bits.push_back(raw);
-            }
-        bits = broadcast(bits);
-        std::map<long, output::MapRecord> risks;
-        for (long index = 0; index < static_cast<long>(bits.size()); ++index)
-          {
-            output::MapRecord record;
-            double            risk;
-            std::memcpy(&risk, &bits[index], sizeof risk);
-            record.status                 = std::isfinite(risk) ? "ok" : "failed";
-            record.numbers["risk_max"]    = risk;
-            risks[index]                  = record;
-          }
-        Progress line_progress("boundary", lines, options.progress && root, "line");
-        long     lines_done = 0;
-        run_tasks(
-          lines, jobs, [&](long line) { return encode(bisect_line(map, risks, line, options.boundary_tolerance), line); },
-          [&](const std::string &payload) {
-            const auto [line, result] = decode_line(payload);
-            boundary[line]            = result;
-            line_progress.update(++lines_done, std::numeric_limits<double>::quiet_NaN());
-          });
-        line_progress.finish();
-      }
-    if (!root)
+    MapRun map(options);
+    // 2. MPI (under mpirun, or for models every point shares), the output
+    //    folder and map.h5: a new map, or the same map continued.
+    map.open();
+    // 3. What every point shares, built once.
+    map.prepare_scene();
+    // 4. The points not yet in map.h5, over ranks and threads.
+    if (!map.run_points())
       return {};
-
-    // 7. map.csv, boundary.csv, the /boundary group and map.png.
-    const std::string csv = (fs::path(map.output_directory) / "map.csv").string();
-    write_csv(csv, map, grid);
-    written.push_back((fs::path(map.output_directory) / "map.h5").string());
-    written.push_back(csv);
-    if (options.boundary && complete == map.size())
-      {
-        std::vector<std::vector<double>> others;
-        std::vector<double>              value, low, high;
-        const std::string                path = (fs::path(map.output_directory) / "boundary.csv").string();
-        std::ofstream                    out(path);
-        out.precision(10);
-        for (std::size_t k = 1; k < map.axes.size(); ++k)
-          out << map.axes[k].path << ",";
-        out << map.axes[0].path << " at D=1,bracket low,bracket high\n";
-        for (const auto &line : boundary)
-          {
-            others.push_back(line.others);
-            value.push_back(line.value);
-            low.push_back(line.low);
-            high.push_back(line.high);
-            for (const double v : line.others)
-              out << v << ",";
-            out << line.value << "," << line.low << "," << line.high << "\n";
-          }
-        file->write_boundary(others, value, low, high);
-        written.push_back(path);
-      }
-    long failed = 0;
-    for (const auto &[index, record] : grid)
-      failed += record.status == "failed";
-    if (failed > 0)
-      std::cerr << "fretsim: warning: " << failed << " of " << grid.size()
-                << " points failed; map.csv gives each one's message\n";
-    file.reset();
-    if (options.plots)
-      for (const auto &figure : scenes::run_plot_script("plot_map.py", {map.output_directory}))
-        written.push_back(figure);
-    return written;
+    // 5. The D = 1 boundary along each line of the first axis.
+    if (options.boundary)
+      map.locate_boundary();
+    // 6. map.csv, boundary.csv and map.png.
+    return map.write_outputs();
   }
 } // namespace fretsim::app

@@ -191,10 +191,22 @@ TEST(MapCommand, StoppedMapsContinueToTheRecordsOfAnUninterruptedOne)
       execl("/bin/sh", "sh", "-c", ("exec " + line).c_str(), static_cast<char *>(nullptr));
       _exit(127);
     }
+  // Killed as soon as map.h5 grows past its empty layout: the first record
+  // is being written or on disk.
   const auto map_file = killed / "map.h5";
-  for (int wait = 0; wait < 600 && !std::filesystem::exists(map_file); ++wait)
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  std::uintmax_t empty_size = 0;
+  for (int wait = 0; wait < 6000; ++wait)
+    {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      std::error_code error;
+      const auto      size = std::filesystem::file_size(map_file, error);
+      if (error)
+        continue;
+      if (empty_size == 0)
+        empty_size = size;
+      else if (size > empty_size)
+        break;
+    }
   kill(child, SIGKILL);
   int status = 0;
   waitpid(child, &status, 0);

@@ -18,6 +18,7 @@
 #include <fretsim/contact/tangential_traction_model.h>
 
 #include <array>
+#include <atomic>
 
 #include <chrono>
 #include <cmath>
@@ -26,6 +27,10 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <thread>
+#include <tuple>
+
+#include <omp.h>
 
 namespace fretsim::scenes
 {
@@ -501,12 +506,40 @@ namespace fretsim::scenes
       std::size_t              layers = 0;
     };
 
-    /// D_max of the whole history on the grid of `cells` per direction.
-    contact::RiskMaximum risk_on_grid(const contact::FrettingCase &fretting_case, int cells_x, int cells_y,
-                                      double half_width_factor)
+    /// D_max of each (case, cells x, cells y) history, as many at a time as
+    /// the caller's OpenMP threads (a map's point has one), each run on one
+    /// core: its digits do not depend on how the runs share the machine.
+    std::vector<double> risks_in_parallel(const std::vector<std::tuple<const contact::FrettingCase *, int, int>> &runs,
+                                          double half_width_factor)
     {
-      return contact::fretting_risk_maximum(fretting_case,
-                                            contact::fretting_grid(fretting_case, cells_x, cells_y, half_width_factor));
+      std::vector<double>      risk(runs.size());
+      std::vector<std::string> failure(runs.size());
+      std::atomic<std::size_t> next{0};
+      const auto               work = [&] {
+        omp_set_num_threads(1);
+        for (std::size_t k = next++; k < runs.size(); k = next++)
+          try
+            {
+              const auto &[fretting_case, cells_x, cells_y] = runs[k];
+              risk[k] = contact::fretting_risk_maximum(
+                          *fretting_case, contact::fretting_grid(*fretting_case, cells_x, cells_y, half_width_factor))
+                          .value;
+            }
+          catch (const std::exception &error)
+            {
+              failure[k] = error.what();
+            }
+      };
+      const std::size_t        cores = static_cast<std::size_t>(std::max(1, omp_get_max_threads()));
+      std::vector<std::thread> threads;
+      for (std::size_t t = 0; t < std::min(cores, runs.size()); ++t)
+        threads.emplace_back(work);
+      for (auto &thread : threads)
+        thread.join();
+      for (const auto &message : failure)
+        if (!message.empty())
+          throw std::runtime_error("risk error estimate: " + message);
+      return risk;
     }
   } // namespace
 
@@ -581,38 +614,46 @@ namespace fretsim::scenes
   ConcentratedContactScene::estimate_risk_convergence(const contact::RiskMaximum &finest) const
   {
     // The same history on the grids of 2 and 4 times the spacing (the grid's
-    // half-widths are kept, so the Hertz edge sits on a cell face of all three
-    // when the half-width factor is aligned: see aligned_half_width_factor),
-    // and on the coarsest grid with half the time step for the time error.
+    // half-widths are kept), and on the coarsest grid with half the time step
+    // for the time error; with a model other than exact, the model and the
+    // incremental exact solver over the same first cycles on the coarsest grid.
     const auto &s = settings;
-    // Short runs: FFTW's estimated plans, not measured ones (measuring costs
-    // more than these runs save).
-    contact::FrettingCase coarse = fretting_case;
-    coarse.exact.measure_fft_plans = false;
-    RiskConvergence convergence;
-    convergence.cells = {s.cells_x / 4, s.cells_x / 2, s.cells_x};
-    convergence.risk  = {risk_on_grid(coarse, s.cells_x / 4, s.cells_y / 4, s.half_width_factor).value,
-                         risk_on_grid(coarse, s.cells_x / 2, s.cells_y / 2, s.half_width_factor).value,
-                         finest.value};
+    // Short runs: FFTW's estimated plans (measuring costs more than these runs
+    // save, and estimated plans give the same digits in every process).
+    contact::FrettingCase coarse             = fretting_case;
+    coarse.exact.measure_fft_plans            = false;
+    coarse.stress_evaluator.measure_fft_plans = false;
     contact::FrettingCase finer_in_time = coarse;
     finer_in_time.steps_per_cycle *= 2;
-    const double coarse_half_step = risk_on_grid(finer_in_time, s.cells_x / 4, s.cells_y / 4, s.half_width_factor).value;
+    // Both models over the same short history: the running-mean risk peaks in
+    // the first cycle, and the comparison needs only the same history.
+    contact::FrettingCase check = coarse;
+    check.cycles                = std::min(check.cycles, 2);
+    check.warmup_cycles         = std::min(check.warmup_cycles, check.cycles - 1);
+    contact::FrettingCase check_exact = check;
+    check_exact.traction_model        = contact::TractionModel::exact;
+
+    const int quarter_x = s.cells_x / 4, quarter_y = s.cells_y / 4;
+    std::vector<std::tuple<const contact::FrettingCase *, int, int>> runs{
+      {&coarse, quarter_x, quarter_y}, {&coarse, s.cells_x / 2, s.cells_y / 2}, {&finer_in_time, quarter_x, quarter_y}};
+    const bool check_model = fretting_case.traction_model != contact::TractionModel::exact;
+    if (check_model)
+      {
+        runs.emplace_back(&check, quarter_x, quarter_y);
+        runs.emplace_back(&check_exact, quarter_x, quarter_y);
+      }
+    const std::vector<double> risk = risks_in_parallel(runs, s.half_width_factor);
+
+    RiskConvergence convergence;
+    convergence.cells = {s.cells_x / 4, s.cells_x / 2, s.cells_x};
+    convergence.risk  = {risk[0], risk[1], finest.value};
     // First order in the time step: the limit lies as far beyond the half
     // step as the half step lies beyond the full one.
-    convergence.time_step_correction = coarse_half_step - convergence.risk[0];
+    convergence.time_step_correction = risk[2] - risk[0];
     convergence.grid = contact::richardson_estimate(convergence.risk[2], convergence.risk[1], convergence.risk[0]);
-
-    if (fretting_case.traction_model != contact::TractionModel::exact)
+    if (check_model)
       {
-        // Both models over the same short history: the running-mean risk peaks
-        // in the first cycle, and the comparison needs only the same history.
-        contact::FrettingCase check = coarse;
-        check.cycles                = std::min(check.cycles, 2);
-        check.warmup_cycles         = std::min(check.warmup_cycles, check.cycles - 1);
-        const double model          = risk_on_grid(check, s.cells_x / 4, s.cells_y / 4, s.half_width_factor).value;
-        check.traction_model        = contact::TractionModel::exact;
-        const double exact          = risk_on_grid(check, s.cells_x / 4, s.cells_y / 4, s.half_width_factor).value;
-        convergence.model_and_exact_risk  = std::array<double, 2>{model, exact};
+        convergence.model_and_exact_risk  = std::array<double, 2>{risk[3], risk[4]};
         convergence.traction_check_cycles = check.cycles;
       }
     return convergence;

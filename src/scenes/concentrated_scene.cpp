@@ -251,10 +251,17 @@ namespace fretsim::scenes
     // The superposition keeps two fields per virgin level, a quarter cycle's
     // steps' worth of levels.
     const bool   masing       = p.get("Friction/Traction model") == "exact masing";
-    const double virgin_bytes = masing ? cells * 16.0 * (steps_per_cycle / 4.0 + 1.0) : 0.0;
+    const double levels       = steps_per_cycle / 4.0 + 1.0;
+    double       virgin_bytes = masing ? cells * 16.0 * levels : 0.0;
     if (masing)
-      path_note += ", the superposition's " + std::to_string(long(steps_per_cycle / 4 + 1)) +
-                   " virgin levels (Loading/Steps per cycle / 4)";
+      {
+        // The stresses of the levels and of two reversals on every layer,
+        // kept while they fit the run's budget (FrettingCase::superposition_budget).
+        const double level_stresses = (levels + 2.0) * layers * 6.0 * cells * 8.0;
+        virgin_bytes += level_stresses <= 512.0 * 1024 * 1024 ? level_stresses : 0.0;
+        path_note += ", the superposition's " + std::to_string(long(levels)) +
+                     " virgin levels and their stresses (Loading/Steps per cycle / 4)";
+      }
     // The error estimate reruns the history on a quarter of the cells while
     // the run's own state is still held: 1.25 times the run.
     const double estimate_factor = p.get_bool("Convergence/Risk error estimate") ? 1.25 : 1.0;

@@ -183,11 +183,10 @@ namespace fretsim::app
       map->add_option("--axis", options.axes,
                       "An axis 'Section/Name=FROM:TO:N' (evenly spaced) or 'Section/Name=FROM:TO:N:log' "
                       "(geometric), e.g. --axis 'Loading/Normal load=100:3000:20'; one to three, the first "
-                      "varying fastest")
-        ->required();
+                      "varying fastest (default: the scene file's Map/Axes)");
       map->add_flag("--boundary", options.boundary,
                     "Also locate D = 1 along each line of the first axis by bisection between the grid points "
-                    "that bracket it (boundary.csv)");
+                    "that bracket it (boundary.csv; also with the scene file's Map/Boundary = true)");
       map->add_option("--boundary-tolerance", options.boundary_tolerance,
                       "Bisection stops when the bracket is below this fraction of the first axis's range (of its "
                       "logarithm's on a log axis)")

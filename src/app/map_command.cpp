@@ -123,6 +123,7 @@ namespace fretsim::app
       std::vector<std::pair<std::string, std::string>> overrides; // the user's, then the points' own
       std::vector<MapAxis>                             axes;
       std::vector<std::vector<double>>                 values; // per axis
+      bool                                             boundary = false; // bisect for D = 1
 
       long size() const
       {
@@ -440,10 +441,24 @@ namespace fretsim::app
       MapDefinition map;
       map.config_file      = options.config_file;
       map.output_directory = options.output_directory;
-      if (options.axes.empty() || options.axes.size() > 3)
-        throw InputError("(command line)", "--axis", "expected one to three axes, got " +
-                                                       std::to_string(options.axes.size()));
-      for (const auto &text : options.axes)
+      // The base parameters, with the file's own map where no axis is given.
+      const auto base = scenes::load_parameters(options.config_file, options.overrides);
+      std::vector<std::string> axes = options.axes;
+      if (axes.empty() && base.get("Map/Axes") != "none")
+        {
+          std::stringstream listed(base.get("Map/Axes"));
+          for (std::string text; std::getline(listed, text, ';');)
+            if (text.find_first_not_of(" \t") != std::string::npos)
+              axes.push_back(text.substr(text.find_first_not_of(" \t"),
+                                         text.find_last_not_of(" \t") - text.find_first_not_of(" \t") + 1));
+        }
+      map.boundary = options.boundary || base.get_bool("Map/Boundary");
+      if (axes.empty() || axes.size() > 3)
+        throw InputError(options.axes.empty() ? options.config_file : "(command line)",
+                         options.axes.empty() ? "Map/Axes" : "--axis",
+                         "expected one to three axes (--axis, or 'Map/Axes' in the scene file), got " +
+                           std::to_string(axes.size()));
+      for (const auto &text : axes)
         {
           map.axes.push_back(MapAxis::parse(text));
           for (std::size_t k = 0; k + 1 < map.axes.size(); ++k)
@@ -451,10 +466,9 @@ namespace fretsim::app
               reject_axis(text, "the parameter is already an axis");
           map.values.push_back(map.axes.back().values());
         }
-      // The base parameters, then every axis's end values on them: a bad
-      // path or value stops the map before any point runs.
-      const auto base = scenes::load_parameters(options.config_file, options.overrides);
-      map.scene       = base.scene();
+      // Every axis's end values on the base parameters: a bad path or value
+      // stops the map before any point runs.
+      map.scene = base.scene();
       map.overrides   = options.overrides;
       for (const auto &setting : scenes::map_point_settings(map.scene))
         map.overrides.push_back(setting);
@@ -583,10 +597,10 @@ namespace fretsim::app
         return true;
       }
 
-      /// Needs every point; the lines are spread like the points.
+      /// If asked for and every point is done; the lines are spread like the points.
       void locate_boundary()
       {
-        if (complete < map.size())
+        if (!map.boundary || complete < map.size())
           return;
         // Every rank needs the grid's risks to bracket its lines: their bits.
         std::vector<long> bits;
@@ -756,8 +770,7 @@ namespace fretsim::app
     if (!map.run_points())
       return {};
     // 5. The D = 1 boundary along each line of the first axis.
-    if (options.boundary)
-      map.locate_boundary();
+    map.locate_boundary();
     // 6. map.csv, boundary.csv and map.png.
     return map.write_outputs();
   }

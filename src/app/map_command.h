@@ -30,7 +30,7 @@ namespace fretsim::app
   {
     std::string              config_file;
     std::string              output_directory; ///< default: results/<config name>-map
-    std::vector<std::string> axes;             ///< as given to --axis
+    std::vector<std::string> axes;             ///< as given to --axis; none: the scene file's Map/Axes
     /// ("Section/Name", value) pairs that replace the file's values at every point.
     std::vector<std::pair<std::string, std::string>> overrides;
     bool   boundary           = false;

@@ -12,12 +12,37 @@ namespace fretsim::scenes
 {
   std::vector<std::string> scene_names() { return {"concentrated", "bearing_housing"}; }
 
+  namespace
+  {
+    /// A scene file may carry the map `fretsim map` draws over it; `run` ignores it.
+    std::vector<app::ParameterSpec> map_parameter_specs()
+    {
+      app::ParameterSpec axes;
+      axes.path          = "Map/Axes";
+      axes.kind          = app::ParameterSpec::Kind::text;
+      axes.default_value = "none";
+      axes.doc = "The axes `fretsim map` uses when none is given on its command line, separated by ';', each "
+                 "'Section/Name=FROM:TO:N' or 'Section/Name=FROM:TO:N:log' as for --axis; none: no map of its "
+                 "own (`fretsim run` ignores them) [-].";
+      return {axes, app::ParameterSpec::selection("Map/Boundary", "false",
+                                                  "true: `fretsim map` also bisects for D = 1, as --boundary.",
+                                                  "true|false")};
+    }
+
+    std::vector<app::ParameterSpec> with_map(std::vector<app::ParameterSpec> specs)
+    {
+      for (auto &spec : map_parameter_specs())
+        specs.push_back(std::move(spec));
+      return specs;
+    }
+  } // namespace
+
   app::SceneParameters declare_parameters(const std::string &scene)
   {
     if (scene == "concentrated")
-      return app::SceneParameters(scene, ConcentratedContactScene::parameter_specs());
+      return app::SceneParameters(scene, with_map(ConcentratedContactScene::parameter_specs()));
     if (scene == "bearing_housing")
-      return app::SceneParameters(scene, BearingHousingScene::parameter_specs());
+      return app::SceneParameters(scene, with_map(BearingHousingScene::parameter_specs()));
     throw std::invalid_argument("unknown scene '" + scene + "'");
   }
 

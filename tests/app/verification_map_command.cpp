@@ -341,3 +341,26 @@ TEST(MapCommand, AFailingPointIsRecordedWithItsMessageAndTheMapGoesOn)
   EXPECT_NE(records.at(1).message.find("Warm-up cycles"), std::string::npos) << records.at(1).message;
   EXPECT_TRUE(std::isnan(test_files::read_csv(directory / "out" / "map.csv")[1].at("risk_max")));
 }
+
+// Without --axis the map is the scene file's Map section; `run` ignores it.
+TEST(MapCommand, TheSceneFileCarriesItsMap)
+{
+  const auto directory = test_files::scratch_directory("map-file");
+  const auto scene     = small_scene_file(directory);
+  const std::string map_section =
+    " --set 'Map/Axes=Loading/Normal load=600:1800:2 ; Loading/Sliding amplitude=1e-6:4e-6:2' --set 'Map/Boundary=true'";
+  const auto result = run_program("map " + scene.string() + " -o " + (directory / "out").string() + " -q --no-plots" +
+                                  map_section);
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const auto records = records_of(directory / "out");
+  ASSERT_EQ(records.size(), 4u);
+  EXPECT_EQ(records.at(3).axis_values, (std::vector<double>{1800.0, 4e-6}));
+  EXPECT_TRUE(std::filesystem::exists(directory / "out" / "boundary.csv"));
+  EXPECT_EQ(run_program("run " + scene.string() + " -o " + (directory / "run").string() + " -q --no-plots" +
+                        map_section)
+              .exit_code,
+            0);
+  const auto none = run_program("map " + scene.string() + " -o " + (directory / "none").string());
+  EXPECT_EQ(none.exit_code, 2) << none.output;
+  EXPECT_NE(none.output.find("Map/Axes"), std::string::npos) << none.output;
+}

@@ -510,7 +510,10 @@ namespace fretsim::app
 
       void open()
       {
-        const char *launched = std::getenv("OMPI_COMM_WORLD_SIZE");
+        // Started by mpirun/mpiexec/srun (Open MPI, PMIx or MPICH's PMI)?
+        bool launched = false;
+        for (const char *name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_SIZE"})
+          launched = launched || std::getenv(name) != nullptr;
         if (!fem::ParallelEnvironment::active() && (launched || map.scene != "concentrated"))
           mpi = std::make_unique<fem::ParallelEnvironment>();
         r    = ranks();

@@ -146,7 +146,9 @@ namespace fretsim::app
     };
 
     /// One scene run at the given axis values.
-    output::MapRecord evaluate(const MapDefinition &map, long index, const std::vector<double> &values)
+    /// `folder`: under points/, where a scene that writes files writes them.
+    output::MapRecord evaluate(const MapDefinition &map, long index, const std::vector<double> &values,
+                               const std::string &folder)
     {
       output::MapRecord record;
       record.index       = index;
@@ -160,8 +162,6 @@ namespace fretsim::app
           record.parameters = parameters.to_prm();
           const auto scene  = scenes::make_scene(std::move(parameters));
           scenes::RunOptions options;
-          char               folder[32];
-          std::snprintf(folder, sizeof folder, "point_%06ld", index);
           options.output_directory = (fs::path(map.output_directory) / "points" / folder).string();
           options.plots            = false;
           options.progress         = false;
@@ -350,12 +350,16 @@ namespace fretsim::app
             continue;
           double       ta = to_t(map.values[0][i]), tb = to_t(map.values[0][i + 1]);
           const double width = tolerance * std::abs(to_t(axis.to) - to_t(axis.from));
+          int          step  = 0;
           while (std::abs(tb - ta) > width)
             {
               const double tm = 0.5 * (ta + tb);
               auto         values = first;
               values[0]         = from_t(tm);
-              const double fm   = risk_of(evaluate(map, -1, values)) - 1.0;
+              const double fm   = risk_of(evaluate(map, -1, values,
+                                                         "boundary_" + std::to_string(line) + "_" +
+                                                           std::to_string(++step))) -
+                                  1.0;
               if (!std::isfinite(fm))
                 break;
               if ((fm > 0.0) == (fa > 0.0))
@@ -489,14 +493,14 @@ namespace fretsim::app
       return map;
     }
 
-    int jobs_per_rank(const MapOptions &options, const std::string &scene)
+    int jobs_per_rank(const MapOptions &options, const std::string &scene, const Ranks &r)
     {
       if (!scenes::runs_in_threads(scene))
         return 1;
       if (options.jobs > 0)
         return options.jobs;
       const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-      return std::max(1, cores / ranks().on_node);
+      return std::max(1, cores / r.on_node);
     }
 
     /// One `fretsim map` command, stage by stage (every rank runs each).
@@ -548,7 +552,7 @@ namespace fretsim::app
           OutputFolder::check(map.output_directory, policy);
         done = broadcast(done);
         already.insert(done.begin(), done.end());
-        jobs = jobs_per_rank(options, map.scene);
+        jobs = jobs_per_rank(options, map.scene, r);
       }
 
       void prepare_scene() const
@@ -574,7 +578,11 @@ namespace fretsim::app
         long     collected = 0;
         run_tasks(
           static_cast<long>(pending.size()), jobs,
-          [&](long k) { return encode(evaluate(map, pending[k], map.point(pending[k]))); },
+          [&](long k) {
+            char folder[32];
+            std::snprintf(folder, sizeof folder, "point_%06ld", pending[k]);
+            return encode(evaluate(map, pending[k], map.point(pending[k]), folder));
+          },
           [&](const std::string &payload) {
             const auto record = decode(payload);
             if (record.status != "interrupted")

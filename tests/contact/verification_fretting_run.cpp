@@ -63,6 +63,30 @@ namespace
     difference.stress = stress / largest;
     return difference;
   }
+  struct Comparison
+  {
+    Difference  difference;
+    RiskMaximum superposed, reference;
+    double      von_mises_superposed = 0.0, von_mises_reference = 0.0;
+  };
+
+  /// The case with the stresses composed (the default) against a stress
+  /// evaluation per step, on the same grid.
+  Comparison superposed_against_reference(FrettingCase c, const SurfaceGrid &grid)
+  {
+    FrettingRun superposed(c, grid);
+    c.superposed_stresses = false;
+    FrettingRun reference(c, grid);
+    EXPECT_TRUE(superposed.stresses_superposed());
+    EXPECT_FALSE(reference.stresses_superposed());
+    Comparison result;
+    result.difference           = compare(superposed, reference);
+    result.superposed           = superposed.risk_maximum();
+    result.reference            = reference.risk_maximum();
+    result.von_mises_superposed = superposed.von_mises_max();
+    result.von_mises_reference  = reference.von_mises_max();
+    return result;
+  }
 } // namespace
 
 // Stresses are linear in the traction, so composing them as the traction is
@@ -79,22 +103,16 @@ TEST(FrettingRunSuperposition, EqualsAStressEvaluationPerStep)
       c.sliding_direction = direction;
       c.bulk_stress.static_surface[0]    = 1e8;
       c.bulk_stress.amplitude_surface[2] = 5e7;
-      const SurfaceGrid grid = fretting_grid(c, 24, 24, 1.5);
-      FrettingRun       superposed(c, grid);
-      c.superposed_stresses = false;
-      FrettingRun reference(c, grid);
-      ASSERT_TRUE(superposed.stresses_superposed());
-      ASSERT_FALSE(reference.stresses_superposed());
-      const Difference difference = compare(superposed, reference);
-      EXPECT_LT(difference.stress, 1e-14) << direction;
-      EXPECT_LT(difference.risk, 1e-14) << direction;
-      const RiskMaximum a = superposed.risk_maximum(), b = reference.risk_maximum();
+      const Comparison result = superposed_against_reference(c, fretting_grid(c, 24, 24, 1.5));
+      EXPECT_LT(result.difference.stress, 1e-14) << direction;
+      EXPECT_LT(result.difference.risk, 1e-14) << direction;
+      const RiskMaximum &a = result.superposed, &b = result.reference;
       EXPECT_NEAR(a.value, b.value, 1e-14 * b.value) << direction;
       EXPECT_EQ(a.step, b.step);
       EXPECT_EQ(a.layer, b.layer);
       EXPECT_EQ(a.i, b.i);
       EXPECT_EQ(a.j, b.j);
-      EXPECT_NEAR(superposed.von_mises_max(), reference.von_mises_max(), 1e-14 * reference.von_mises_max());
+      EXPECT_NEAR(result.von_mises_superposed, result.von_mises_reference, 1e-14 * result.von_mises_reference);
     }
 }
 
@@ -106,15 +124,10 @@ TEST(FrettingRunSuperposition, EqualsTheReferenceWithUnevenSteps)
   FrettingCase c    = paper_case();
   c.cycles          = 4;
   c.steps_per_cycle = 26;
-  const SurfaceGrid grid = fretting_grid(c, 16, 16, 1.5);
-  FrettingRun       superposed(c, grid);
-  c.superposed_stresses = false;
-  FrettingRun reference(c, grid);
-  ASSERT_TRUE(superposed.stresses_superposed());
-  const Difference difference = compare(superposed, reference);
-  EXPECT_LT(difference.stress, 1e-14);
-  EXPECT_LT(difference.risk, 1e-14);
-  EXPECT_NEAR(superposed.risk_maximum().value, reference.risk_maximum().value, 1e-14);
+  const Comparison result = superposed_against_reference(c, fretting_grid(c, 16, 16, 1.5));
+  EXPECT_LT(result.difference.stress, 1e-14);
+  EXPECT_LT(result.difference.risk, 1e-14);
+  EXPECT_NEAR(result.superposed.value, result.reference.value, 1e-14);
 }
 
 // Above the memory budget the run evaluates the stresses per step: the

@@ -73,7 +73,27 @@ namespace fretsim::fem
       double       outer_radius;
       unsigned int cells;
       MaterialId   material;
+      bool         fine_outside = true; ///< graded cells thinnest at the layer's outer side, else its inner
     };
+
+    /// Vertex fractions 0 … 1 of `cells` radial cells whose sizes form a
+    /// geometric progression from `grading` × the thinnest down to the thinnest
+    /// (at the outer side, or at the inner with !fine_outside).
+    std::vector<double> radial_fractions(unsigned int cells, double grading, bool fine_outside)
+    {
+      std::vector<double> sizes(cells, 1.0);
+      if (cells > 1)
+        for (unsigned int i = 0; i < cells; ++i)
+          sizes[i] = std::pow(grading, (fine_outside ? double(cells - 1 - i) : double(i)) / (cells - 1));
+      double total = 0.0;
+      for (const double h : sizes)
+        total += h;
+      std::vector<double> fractions{0.0};
+      double              sum = 0.0;
+      for (unsigned int i = 0; i < cells; ++i)
+        fractions.push_back(i + 1 == cells ? 1.0 : (sum += sizes[i]) / total);
+      return fractions;
+    }
 
     void check(const bool ok, const std::string &what)
     {
@@ -126,6 +146,7 @@ namespace fretsim::fem
       check(d.circumferential >= 3 && d.sector_angle / d.circumferential < 0.5 * M_PI,
             "need at least 3 cells around and cells spanning less than 90°");
       check(d.axial >= 1 && (!profile.has_groove() || d.axial_land >= 1), "need axial cells >= 1");
+      check(d.radial_grading >= 1.0 && d.radial_grading <= 1e3, "radial grading must lie in [1, 1000]");
 
       std::vector<double> outer_radii;
       std::vector<double> s_nodes{0.0};
@@ -133,8 +154,10 @@ namespace fretsim::fem
         {
           check(layers[k].cells >= 1, "need radial cells >= 1");
           outer_radii.push_back(layers[k].outer_radius);
+          const std::vector<double> fractions =
+            radial_fractions(layers[k].cells, d.radial_grading, layers[k].fine_outside);
           for (unsigned int i = 1; i <= layers[k].cells; ++i)
-            s_nodes.push_back(k + double(i) / layers[k].cells);
+            s_nodes.push_back(k + fractions[i]);
         }
       const RingChart chart(profile, outer_radii);
 
@@ -215,6 +238,8 @@ namespace fretsim::fem
         s << ", groove radius " << ring.groove_radius << " m, groove bottom " << ring.groove_bottom_radius << " m";
       s << "; cells " << d.circumferential << " around " << d.sector_angle << " rad, " << d.radial_ring
         << " radial, " << d.axial << " axial";
+      if (d.radial_grading != 1.0)
+        s << ", radial grading " << d.radial_grading;
       if (ring.has_groove())
         s << " (+" << d.axial_land << " per land)";
       return s.str();
@@ -237,7 +262,7 @@ namespace fretsim::fem
     profile.outer_radius = housing.outer_radius;
     profile.width        = housing.width;
     check_ring(profile);
-    auto impl = layered_body(profile, {{housing.outer_radius, d.radial_housing, MaterialId::housing}},
+    auto impl = layered_body(profile, {{housing.outer_radius, d.radial_housing, MaterialId::housing, false}},
                              BoundaryId::housing_bore, BoundaryId::housing_outer, d, ranks);
     std::ostringstream s;
     s << "parametric housing bore " << housing.bore_radius << " m, outer " << housing.outer_radius
@@ -257,7 +282,7 @@ namespace fretsim::fem
     check(housing.outer_radius > housing.bore_radius, "housing needs outer radius > bore radius");
     auto impl = layered_body(ring,
                              {{ring.outer_radius, d.radial_ring, MaterialId::ring},
-                              {housing.outer_radius, d.radial_housing, MaterialId::housing}},
+                              {housing.outer_radius, d.radial_housing, MaterialId::housing, false}},
                              BoundaryId::raceway, BoundaryId::housing_outer, d, ranks);
     std::ostringstream s;
     s << "parametric " << describe(ring, d) << "; bonded in housing of outer radius " << housing.outer_radius

@@ -7,6 +7,7 @@
 #include "app/fe_command.h"
 #include "app/mesh_command.h"
 #include "app/reduce_command.h"
+#include "app/reference_command.h"
 #include "app/parameters.h"
 #include "app/run_control.h"
 #include "app/stress_benchmark.h"
@@ -311,6 +312,17 @@ namespace fretsim::app
     compare_full->add_flag("--no-plots", no_plots, "Do not write the PNG figure");
     compare_full->add_flag("-q,--quiet", quiet, "No progress display");
     compare_full->add_option("--set", settings, "Override a parameter, e.g. --set 'Compare/Instants=8'");
+    ReferenceOptions reference;
+    auto *reference_command = app.add_subcommand(
+      "reference", "Set a bearing_housing run against the full FE of the same scene: ring and housing meshed on "
+                   "Reference/Meshes, driven by the run's ball loads with its layer and friction, the same Dang Van "
+                   "(D_max and peak pressure of both, the reference's error bar; table, CSV, PNG)");
+    reference_command->add_option("CONFIG", reference.config_file, "Scene file (.prm or .json, Scene = bearing_housing)")
+      ->required();
+    add_output(reference_command, reference.output_directory, "Output directory (default: results/<config name>-reference)");
+    reference_command->add_flag("--no-plots", no_plots, "Do not write the PNG figure");
+    reference_command->add_flag("-q,--quiet", quiet, "No progress display");
+    reference_command->add_option("--set", settings, "Override a parameter, e.g. --set 'Reference/Substeps=8'");
     MapOptions map_options;
     auto      *map = add_map_command(app, map_options);
     add_output(map, map_options.output_directory,
@@ -428,6 +440,20 @@ namespace fretsim::app
                                               "compare_pressure.csv", "compare.png"},
                                              force);
             for (const auto &file : run_compare_command(full_fe_check, std::cout))
+              std::cout << (file.size() > 4 && file.substr(file.size() - 4) == ".png" ? "figure:   " : "table:    ")
+                        << std::filesystem::absolute(file).string() << "\n";
+            return exit_ok;
+          }
+        if (*reference_command)
+          {
+            reference.overrides = parse_overrides(settings);
+            reference.plots     = !no_plots;
+            reference.progress  = !quiet;
+            const auto folder   = claim_output(reference.output_directory, reference.config_file, "-reference",
+                                               {"compare_summary.json", "reference.csv", "reference_profile.csv",
+                                                "reference.png"},
+                                               force);
+            for (const auto &file : run_reference_command(reference, std::cout))
               std::cout << (file.size() > 4 && file.substr(file.size() - 4) == ".png" ? "figure:   " : "table:    ")
                         << std::filesystem::absolute(file).string() << "\n";
             return exit_ok;

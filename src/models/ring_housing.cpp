@@ -56,6 +56,7 @@ namespace fretsim::models
       r.divisions.radial_housing  = static_cast<unsigned int>(p.get_integer("Divisions/Radial housing"));
       r.divisions.axial           = static_cast<unsigned int>(p.get_integer("Divisions/Axial"));
       r.divisions.axial_land      = static_cast<unsigned int>(p.get_integer("Divisions/Axial land"));
+      r.divisions.radial_grading  = p.get_double("Divisions/Radial grading");
       r.divisions.sector_angle    = p.get_double("Divisions/Sector angle");
 
       auto metres = [](double value) {
@@ -187,6 +188,11 @@ namespace fretsim::models
                                         1, 1024));
     specs.push_back(Spec::integer_range("Divisions/Axial land", "2",
                                         "Cells across each land beside the groove [-].", 1, 1024));
+    specs.push_back(Spec::real_range("Divisions/Radial grading", "1",
+                                     "Radial cells in geometric progression, the thickest this many times the "
+                                     "thinnest, which lie at the ring's outer surface and the housing's bore (the "
+                                     "interface); 1 is uniform [-].",
+                                     1.0, 1000.0));
     specs.push_back(Spec::real_range("Divisions/Sector angle", "6.283185307179586",
                                      "Meshed sector 0 <= theta <= angle; 2 pi is the full ring, less gives the cut "
                                      "faces sector_start and sector_end [rad].",

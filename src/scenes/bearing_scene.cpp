@@ -274,7 +274,32 @@ namespace fretsim::scenes
            "this housing meshed and joined to the ring by the layer (the full-FE equivalent of a run with the "
            "housing's half-space or a flexible housing); empty: the ring on the rigid foundation only [-]."),
       text("Compare/Results file", "",
-           "`fretsim compare`: the run to compare; empty: results/<this file's name>/results.h5 [-]."),
+           "`fretsim compare` and `fretsim reference`: the run to compare; empty: results/<this file's "
+           "name>/results.h5 [-]."),
+      text("Reference/Meshes", "90x2x3x4x1; 180x3x4x6x2; 360x4x6x8x2",
+           "`fretsim reference`: the full-FE meshes of ring and housing, coarse to fine, ';'-separated, each "
+           "'around x radial ring x radial housing x axial x axial land' cells (the reduction configuration's "
+           "geometry and material); the cells around must divide the interface grid's columns or be a multiple of "
+           "them [-]."),
+      Spec::real_range("Reference/Radial grading", "4",
+                       "`fretsim reference`: radial cells in geometric progression, the thickest this many times the "
+                       "thinnest at the interface [-].",
+                       1.0, 1000.0),
+      text("Reference/Housing", "",
+           "`fretsim reference`: a ring_housing configuration of the housing (Mesh/Bodies = housing, held by its "
+           "Reduction/Clamped surfaces), relative to this file: the full-FE housing; empty: a rigid housing (the "
+           "layer alone between it and the ring) [-]."),
+      Spec::integer_range("Reference/Substeps", "4",
+                          "`fretsim reference`: quasi-static increments per output interval of the run (ball loads "
+                          "and angles linear in between) [-].",
+                          1, 1000),
+      Spec::integer_range("Reference/Snapshots", "0",
+                          "`fretsim reference`: the run's first N output times marched through; 0: all [-].", 0,
+                          10000000),
+      Spec::integer_range("Reference/Points per cell side", "3",
+                          "`fretsim reference`: a cell's unit load is spread over s x s points, its displacement the "
+                          "mean over them [-].",
+                          1, 8),
     };
   }
 
@@ -422,6 +447,23 @@ namespace fretsim::scenes
 
   BearingHousingScene::~BearingHousingScene() = default;
 
+  BearingHousingScene::ReferenceView BearingHousingScene::reference_view() const
+  {
+    const Settings &s = *settings;
+    ReferenceView   v;
+    v.reduction_config     = s.ring_model.config;
+    v.friction_coefficient = s.run.interface.friction_coefficient;
+    v.normal_stiffness     = s.run.interface.normal_stiffness;
+    v.tangential_stiffness = s.run.interface.tangential_stiffness;
+    v.radial_interference  = s.run.interface.radial_interference;
+    v.depth_layers         = s.depth_layers;
+    v.dang_van_constants   = s.dang_van_constants;
+    v.dang_van             = s.dang_van;
+    v.local_compliance     = s.local_compliance;
+    v.flexible_housing     = s.housing_model.has_value();
+    return v;
+  }
+
   namespace
   {
     /// The co-simulation's view of a model file.
@@ -561,6 +603,8 @@ namespace fretsim::scenes
       results->declare_field("shear_y", "Pa", field);
       results->declare_field("effective_friction", "1", field);
       results->declare_field("risk", "1", {s.depth_layers.size(), field[0], field[1]});
+      results->declare_field("stress", "Pa",
+                             {s.depth_layers.size(), std::size_t(contact::stress_component_count), field[0], field[1]});
       results->declare_field("ball_angle", "rad", {s.run.bearing.ball_count});
       results->declare_field("ball_load", "N", {s.run.bearing.ball_count});
       results->declare_field("modal_coordinates", "1", {ring.n});
@@ -620,7 +664,8 @@ namespace fretsim::scenes
                                    snap.ball_force_y, snap.inner_displacement_y, snap.contact_fraction,
                                    snap.slip_fraction, so_far});
         results.append_snapshot(snap.time, {snap.pressure, snap.shear_x, snap.shear_y, &snap.effective_friction,
-                                            &risk.risk(), &snap.ball_angles, &snap.ball_loads, &snap.q});
+                                            &risk.risk(), &stress.values, &snap.ball_angles, &snap.ball_loads,
+                                            &snap.q});
         results.flush();
       }
 
@@ -961,8 +1006,9 @@ namespace fretsim::scenes
                             " cells (Reduction/Interface grid ... cells of Model/Reduction configuration) on " +
                             std::to_string(long(layers)) + " Stresses/Depth layers" +
                             (dense_cells > 0.0 ? ", with its residual flexibility (a dense cells × cells matrix)" : "");
-    // Per output: 4 interface fields, the risk on every layer, balls and modes.
-    const double sample_bytes = 8.0 * cells * (4.0 + layers) + 8.0 * 1000.0;
+    // Per output: 4 interface fields, the risk and six stress components on
+    // every layer, balls and modes.
+    const double sample_bytes = 8.0 * cells * (4.0 + 7.0 * layers) + 8.0 * 1000.0;
     estimate.disk_bytes       = 5e6 + samples * sample_bytes + 8.0 * cells * layers;
     estimate.disk_basis = std::to_string(long(samples)) +
                           " outputs (Loading/Ball pass periods × Output/Samples per ball pass) of " +

@@ -7,6 +7,8 @@
 // are followed in time. Builds no mesh unless the model file must be made.
 #include "scenes/scene.h"
 
+#include <fretsim/contact/dang_van.h>
+
 #include <memory>
 #include <string>
 #include <utility>
@@ -33,6 +35,22 @@ namespace fretsim::scenes
     RunReport run(const RunOptions &options) override;
     /// Loads or builds the reduced models (collectively on every MPI rank).
     void prepare() override;
+
+    /// What a full-FE reference of the run takes from the scene: the
+    /// interface law, the ball footprint, the stress layers and the risk's
+    /// criterion, as the run has them.
+    struct ReferenceView
+    {
+      std::string                reduction_config;  ///< the ring's ring_housing configuration (resolved)
+      double                     friction_coefficient = 0.0, normal_stiffness = 0.0, tangential_stiffness = 0.0;
+      double                     radial_interference  = 0.0; ///< [m]
+      std::vector<double>        depth_layers;                ///< [m]
+      contact::DangVanConstants  dang_van_constants;
+      contact::DangVanSettings   dang_van;
+      std::string                local_compliance; ///< what the run had in series with the layer
+      bool                       flexible_housing = false;
+    };
+    ReferenceView reference_view() const;
 
     /// The validated parameters, as the run uses them.
     struct Settings;

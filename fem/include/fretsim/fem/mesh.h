@@ -74,6 +74,10 @@ namespace fretsim::fem
     unsigned int radial_housing  = 2;  ///< cells through the housing wall
     unsigned int axial           = 4;  ///< cells across the width, or across the groove
     unsigned int axial_land      = 2;  ///< cells across each land of a grooved ring
+    /// Radial cell sizes in geometric progression, the thickest this many times
+    /// the thinnest; the thinnest at the ring's outer surface and at the
+    /// housing's bore, where the contact's stresses vary fastest. 1: uniform.
+    double radial_grading = 1.0;
     /// Meshed sector θ ∈ [0, sector_angle]; 2π (the default) is the full ring.
     /// A sector gets the cut faces sector_start / sector_end.
     double sector_angle = 6.283185307179586;

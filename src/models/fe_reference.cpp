@@ -1,0 +1,624 @@
+#include <fretsim/contact/bristle.h>
+#include <fretsim/contact/convolution.h>
+#include <fretsim/models/fe_reference.h>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+
+namespace fretsim::models
+{
+  namespace
+  {
+    using Vector = std::vector<double>;
+
+    double dot(const Vector &a, const Vector &b)
+    {
+      double sum = 0.0;
+      for (std::size_t k = 0; k < a.size(); ++k)
+        sum += a[k] * b[k];
+      return sum;
+    }
+
+    /// A convolution along the closed circumference between fields of `rows`
+    /// rows per column whose kernel repeats every P columns: P columns are
+    /// stacked into one, so that the kernel is translation invariant and
+    /// contact::SurfaceConvolution's row-pair form applies.
+    class StackedConvolution
+    {
+    public:
+      /// kernel(ph, b, i, a): response in row a of column i to a unit load in
+      /// row b of column ph < P.
+      using Kernel = std::function<double(int ph, int b, int i, int a)>;
+
+      StackedConvolution(int nx, int rows, int period, const Kernel &kernel, const Vector &diagonal = {})
+        : nx(nx)
+        , rows(rows)
+        , period(period)
+        , stacked{nx / period, rows * period, 1.0, 1.0, 0.0, 0.0}
+        , convolution(stacked, row_pair(kernel, diagonal))
+      {}
+
+      /// y = K x, fields [rows][nx].
+      void apply(const Vector &x, Vector &y) const { apply_with(convolution, x, y); }
+      /// The inverse of K on the whole closed grid.
+      contact::SurfaceConvolution inverse() const { return convolution.inverse(0.0); }
+      void apply_with(const contact::SurfaceConvolution &c, const Vector &x, Vector &y) const
+      {
+        pack(x, packed_in);
+        c.apply(packed_in, packed_out);
+        unpack(packed_out, y);
+      }
+
+    private:
+      contact::RowPairInfluenceFunction row_pair(const Kernel &kernel, const Vector &diagonal) const
+      {
+        const int NX = nx / period, n = nx, p = period, r = rows;
+        return [=](int dI, int field_row, int load_row) {
+          const int d      = ((dI % NX) + NX) % NX;
+          const int sub_t  = field_row / r, a = field_row % r, sub_s = load_row / r, b = load_row % r;
+          const int column = ((d * p + sub_t - sub_s) % n + n) % n; // relative to the load's column
+          double    value  = kernel(sub_s, b, (column + sub_s) % n, a);
+          if (!diagonal.empty() && d == 0 && field_row == load_row)
+            value += diagonal[static_cast<std::size_t>(a)];
+          return value;
+        };
+      }
+      void pack(const Vector &x, Vector &out) const
+      {
+        out.resize(x.size());
+        for (int a = 0; a < rows; ++a)
+          for (int i = 0; i < nx; ++i)
+            out[static_cast<std::size_t>(((i % period) * rows + a) * (nx / period) + i / period)] =
+              x[static_cast<std::size_t>(a * nx + i)];
+      }
+      void unpack(const Vector &in, Vector &y) const
+      {
+        y.resize(in.size());
+        for (int a = 0; a < rows; ++a)
+          for (int i = 0; i < nx; ++i)
+            y[static_cast<std::size_t>(a * nx + i)] =
+              in[static_cast<std::size_t>(((i % period) * rows + a) * (nx / period) + i / period)];
+      }
+
+      int                         nx, rows, period;
+      contact::SurfaceGrid        stacked;
+      contact::SurfaceConvolution convolution;
+      mutable Vector              packed_in, packed_out;
+    };
+
+    /// Where a ball at angle ψ sits between two column centres: the lower
+    /// column and the upper one's weight.
+    std::pair<int, double> ball_columns(const fem::CylinderGrid &grid, double angle)
+    {
+      const double u  = (angle * grid.radius - grid.x_min) / grid.hx - 0.5;
+      const double i0 = std::floor(u);
+      return {static_cast<int>(((static_cast<long>(i0) % grid.nx) + grid.nx) % grid.nx), u - i0};
+    }
+  } // namespace
+
+  struct FeReference::Impl
+  {
+    const InterfaceInfluence &ring;
+    const InterfaceInfluence *housing;
+    ReferenceInterface        law;
+    ReferenceSettings         settings;
+    fem::CylinderGrid         grid;
+    int                       nx, ny, period;
+    std::size_t               cells, n; ///< unknowns: [p | τ_θ | τ_z] × cells
+    double                    area;
+    bool                      friction;
+    std::unique_ptr<StackedConvolution> compliance;
+    std::unique_ptr<contact::SurfaceConvolution> preconditioner;
+    std::vector<std::unique_ptr<StackedConvolution>> stress; ///< per layer
+    std::array<Vector, 6>     rigid;                         ///< B: rigid motions at the cells, [3][cell]
+
+    // State: tractions (p and the bristles' τ_b = −shear on the ring), the
+    // committed bristles and relative slip, the last loads.
+    Vector         x, tau_committed, slip_committed;
+    ReferenceLoads last;
+    bool           started = false;
+
+    Impl(const InterfaceInfluence &ring_in, const InterfaceInfluence *housing_in, const ReferenceInterface &law_in,
+         const ReferenceSettings &settings_in)
+      : ring(ring_in)
+      , housing(housing_in)
+      , law(law_in)
+      , settings(settings_in)
+      , grid(ring_in.grid)
+    {
+      nx = grid.nx;
+      ny = grid.ny;
+      if (housing && (housing->grid.nx != nx || housing->grid.ny != ny))
+        throw std::invalid_argument("models::FeReference: the housing's tables are on another grid");
+      if (!(law.normal_stiffness > 0.0) || !(law.tangential_stiffness > 0.0) || law.friction_coefficient < 0.0)
+        throw std::invalid_argument("models::FeReference: need k_n > 0, k_t > 0 and mu >= 0");
+      period   = housing ? std::lcm(ring.period, housing->period) : ring.period;
+      cells    = grid.size();
+      n        = 3 * cells;
+      area     = grid.cell_area();
+      friction = law.friction_coefficient > 0.0;
+      build_compliance();
+      build_stresses();
+      build_rigid_motions();
+      x.assign(n, 0.0);
+      tau_committed.assign(2 * cells, 0.0);
+      slip_committed.assign(2 * cells, 0.0);
+    }
+
+    /// The compliance kernel: row c (0: closing of the gap, −(u_r,ring −
+    /// u_r,housing); 1, 2: −(relative tangential displacement)) per unit p
+    /// (k = 0) or bristle traction τ_b (k = 1, 2), which pushes the ring along
+    /// −τ_b and the housing along +τ_b [m/Pa]. The table of a load on column
+    /// ph is the body's phase ph mod P_body shifted by the multiple of P_body
+    /// below ph.
+    void build_compliance()
+    {
+      const auto kernel = [this](int ph, int b_row, int i, int a_row) {
+        const int k = b_row / ny, b = b_row % ny, c = a_row / ny, a = a_row % ny;
+        auto      shifted = [&](int body_period) { return ((i - (ph - ph % body_period)) % nx + nx) % nx; };
+        const std::size_t cell_r = static_cast<std::size_t>(a) * nx + shifted(ring.period);
+        const double      sign   = k == 0 ? 1.0 : -1.0;
+        double value = -sign * ring.displacement[ring.displacement_index(ph % ring.period, k, b, cell_r, c)];
+        if (housing)
+          {
+            const std::size_t cell_h = static_cast<std::size_t>(a) * nx + shifted(housing->period);
+            value += housing->displacement[housing->displacement_index(ph % housing->period, k, b, cell_h, c)];
+          }
+        return area * value;
+      };
+      compliance = std::make_unique<StackedConvolution>(nx, 3 * ny, period, kernel);
+      Vector diagonal(static_cast<std::size_t>(3 * ny), 1.0 / law.tangential_stiffness);
+      std::fill(diagonal.begin(), diagonal.begin() + ny, 1.0 / law.normal_stiffness);
+      preconditioner = std::make_unique<contact::SurfaceConvolution>(
+        StackedConvolution(nx, 3 * ny, period, kernel, diagonal).inverse());
+    }
+
+    void build_stresses()
+    {
+      for (std::size_t layer = 0; layer < ring.layers(); ++layer)
+        {
+          const auto kernel = [this, layer](int ph, int b_row, int i, int a_row) {
+            const int k = b_row / ny, b = b_row % ny, c = a_row / ny, a = a_row % ny;
+            if (k >= 3)
+              return 0.0;
+            const std::size_t cell =
+              static_cast<std::size_t>(a) * nx + ((i - (ph - ph % ring.period)) % nx + nx) % nx;
+            return area * ring.stress[ring.stress_index(ph % ring.period, k, b, layer, cell, c)];
+          };
+          stress.push_back(std::make_unique<StackedConvolution>(nx, 6 * ny, period, kernel));
+        }
+    }
+
+    /// The six rigid motions of the ring at the cell centres, (u_r, u_θ, u_z).
+    void build_rigid_motions()
+    {
+      for (auto &b : rigid)
+        b.assign(n, 0.0);
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i)
+          {
+            const std::size_t c  = static_cast<std::size_t>(j) * nx + i;
+            const double      th = grid.x(i) / grid.radius, cs = std::cos(th), sn = std::sin(th), z = grid.y(j),
+                         R = grid.radius;
+            const double u[6][3] = {{cs, -sn, 0.0},        {sn, cs, 0.0},          {0.0, 0.0, 1.0},
+                                    {-z * sn, -z * cs, R * sn}, {z * cs, -z * sn, -R * cs}, {0.0, R, 0.0}};
+            for (int m = 0; m < 6; ++m)
+              for (int d = 0; d < 3; ++d)
+                rigid[m][d * cells + c] = u[m][d];
+          }
+    }
+
+    /// The balls' share: ring displacement (u_r, u_θ, u_z) per cell [3][cell],
+    /// and the resultant's work on the rigid motions.
+    void ball_displacement(const ReferenceLoads &loads, Vector &u, std::array<double, 6> &force) const
+    {
+      u.assign(n, 0.0);
+      force.fill(0.0);
+      for (std::size_t b = 0; b < loads.ball_angles.size(); ++b)
+        {
+          const double q = loads.ball_loads[b];
+          if (q == 0.0)
+            continue;
+          const double psi = loads.ball_angles[b];
+          force[0] += q * std::cos(psi);
+          force[1] += q * std::sin(psi);
+          add_ball(psi, q, ring.ball_displacement, 3, 1, [&](std::size_t cell, int comp, double value) {
+            u[static_cast<std::size_t>(comp) * cells + cell] += value;
+          });
+        }
+    }
+
+    /// Σ over the two columns around ψ of weight × q × the ball table
+    /// (`components` values per cell, `layers` layers), shifted.
+    template <typename Add>
+    void add_ball(double psi, double q, const Vector &table, int components, std::size_t layers, Add add) const
+    {
+      const auto [i0, w] = ball_columns(grid, psi);
+      for (int s = 0; s < 2; ++s)
+        {
+          const int    column = (i0 + s) % nx, ph = column % ring.period, shift = column - ph;
+          const double weight = q * (s == 0 ? 1.0 - w : w);
+          if (weight == 0.0)
+            continue;
+          const std::size_t per_phase = layers * cells * components;
+          for (std::size_t layer = 0; layer < layers; ++layer)
+            for (int j = 0; j < ny; ++j)
+              for (int i = 0; i < nx; ++i)
+                {
+                  const std::size_t target = static_cast<std::size_t>(j) * nx + i;
+                  const std::size_t source = static_cast<std::size_t>(j) * nx + ((i - shift) % nx + nx) % nx;
+                  const double *row = table.data() + ph * per_phase + (layer * cells + source) * components;
+                  for (int comp = 0; comp < components; ++comp)
+                    add(layer * cells + target, comp, weight * row[comp]);
+                }
+        }
+    }
+
+    // ---- One increment.
+
+    /// y = C x on every cell.
+    void apply_compliance(const Vector &v, Vector &y) const { compliance->apply(v, y); }
+
+    struct Increment
+    {
+      Vector                base;   ///< right-hand side without the bristles' secant: d_0 | s_0 − s_old
+      std::array<double, 6> force{}; ///< ball loads' work on the rigid motions / cell area
+      Vector                ball;   ///< ring displacement from the balls [3][cell]
+    };
+
+    /// Projected preconditioned conjugate gradients on the active unknowns,
+    /// the others held at their values in `solution`, the rigid motions not
+    /// in `free_modes` held at theirs in `e`:
+    ///   (C + diag) x − B e = rhs on the active rows, Bᵀ x = f for the free modes.
+    /// Returns the iterations.
+    int solve_linear(const std::vector<char> &active, const Vector &diagonal, const Vector &given_rhs,
+                     const std::array<double, 6> &f, const std::array<bool, 6> &free_modes, Vector &solution,
+                     std::array<double, 6> &e) const
+    {
+      // What the held unknowns and motions contribute.
+      Vector held(n, 0.0), rhs(n, 0.0), y;
+      for (std::size_t k = 0; k < n; ++k)
+        if (!active[k])
+          held[k] = solution[k];
+      apply_compliance(held, y);
+      for (std::size_t k = 0; k < n; ++k)
+        if (active[k])
+          {
+            rhs[k] = given_rhs[k] - y[k];
+            for (int m = 0; m < 6; ++m)
+              if (!free_modes[m])
+                rhs[k] += e[m] * rigid[m][k];
+          }
+      Eigen::Matrix<double, 6, 1> f_vec = Eigen::Matrix<double, 6, 1>::Zero();
+      for (int m = 0; m < 6; ++m)
+        if (free_modes[m])
+          f_vec(m) = f[m] - dot(rigid[m], held);
+      // The free, active rigid-motion columns and the pseudo-inverse of BᵀB.
+      Eigen::Matrix<double, 6, 6> gram = Eigen::Matrix<double, 6, 6>::Zero();
+      for (int a = 0; a < 6; ++a)
+        for (int b = 0; b <= a; ++b)
+          if (free_modes[a] && free_modes[b])
+            {
+              double sum = 0.0;
+              for (std::size_t k = 0; k < n; ++k)
+                if (active[k])
+                  sum += rigid[a][k] * rigid[b][k];
+              gram(a, b) = gram(b, a) = sum;
+            }
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(gram);
+      Eigen::Matrix<double, 6, 6> pinv = Eigen::Matrix<double, 6, 6>::Zero();
+      const double                largest = std::max(eigen.eigenvalues().maxCoeff(), 1e-300);
+      for (int m = 0; m < 6; ++m)
+        if (eigen.eigenvalues()(m) > 1e-10 * largest)
+          pinv += eigen.eigenvectors().col(m) * eigen.eigenvectors().col(m).transpose() / eigen.eigenvalues()(m);
+      const auto bt = [&](const Vector &v) {
+        Eigen::Matrix<double, 6, 1> out = Eigen::Matrix<double, 6, 1>::Zero();
+        for (int m = 0; m < 6; ++m)
+          if (free_modes[m])
+            for (std::size_t k = 0; k < n; ++k)
+              if (active[k])
+                out(m) += rigid[m][k] * v[k];
+        return out;
+      };
+      const auto add_b = [&](const Eigen::Matrix<double, 6, 1> &c, Vector &v, double factor) {
+        for (int m = 0; m < 6; ++m)
+          if (c(m) != 0.0)
+            for (std::size_t k = 0; k < n; ++k)
+              if (active[k])
+                v[k] += factor * c(m) * rigid[m][k];
+      };
+      const auto project = [&](Vector &v) { add_b(pinv * bt(v), v, -1.0); };
+      const auto apply_k = [&](const Vector &v, Vector &out) {
+        apply_compliance(v, out);
+        for (std::size_t k = 0; k < n; ++k)
+          out[k] = active[k] ? out[k] + diagonal[k] * v[k] : 0.0;
+      };
+      const auto precondition = [&](const Vector &r, Vector &z) {
+        compliance->apply_with(*preconditioner, r, z);
+        for (std::size_t k = 0; k < n; ++k)
+          if (!active[k])
+            z[k] = 0.0;
+        project(z);
+      };
+
+      Vector x(n, 0.0);
+      for (std::size_t k = 0; k < n; ++k)
+        if (active[k])
+          x[k] = solution[k];
+      add_b(pinv * (f_vec - bt(x)), x, 1.0);
+      Vector r(n), z(n), p(n), q(n);
+      apply_k(x, q);
+      for (std::size_t k = 0; k < n; ++k)
+        r[k] = active[k] ? rhs[k] - q[k] : 0.0;
+      project(r);
+      Vector rhs_active = rhs;
+      project(rhs_active);
+      const double stop = settings.linear_tolerance * std::max(std::sqrt(dot(rhs_active, rhs_active)), 1e-300);
+      precondition(r, z);
+      p          = z;
+      double rz  = dot(r, z);
+      int    its = 0;
+      const int limit = static_cast<int>(std::min<std::size_t>(n, 5000));
+      while (std::sqrt(dot(r, r)) > stop && its < limit)
+        {
+          apply_k(p, q);
+          const double alpha = rz / dot(p, q);
+          for (std::size_t k = 0; k < n; ++k)
+            {
+              x[k] += alpha * p[k];
+              r[k] -= alpha * q[k];
+            }
+          project(r);
+          precondition(r, z);
+          const double rz_new = dot(r, z);
+          const double beta   = rz_new / rz;
+          rz                  = rz_new;
+          for (std::size_t k = 0; k < n; ++k)
+            p[k] = z[k] + beta * p[k];
+          ++its;
+        }
+      if (std::sqrt(dot(r, r)) > stop)
+        throw std::runtime_error("the full-FE reference's linear solve did not converge in " + std::to_string(its) +
+                                 " conjugate gradient iterations");
+      // The free motions: B e = (C + diag) x − rhs on the active rows.
+      apply_k(x, q);
+      for (std::size_t k = 0; k < n; ++k)
+        q[k] = active[k] ? q[k] - rhs[k] : 0.0;
+      const Eigen::Matrix<double, 6, 1> multipliers = pinv * bt(q);
+      for (int m = 0; m < 6; ++m)
+        if (free_modes[m])
+          e[m] = multipliers(m);
+      for (std::size_t k = 0; k < n; ++k)
+        solution[k] = active[k] ? x[k] : held[k];
+      return its;
+    }
+
+    /// Relative displacements from tractions and rigid motion: gap closing
+    /// d (penetration) [cell] and slip s [2][cell].
+    void kinematics(const Vector &traction, const std::array<double, 6> &e, const Increment &inc, Vector &d,
+                    Vector &s) const
+    {
+      Vector y;
+      apply_compliance(traction, y);
+      d.assign(cells, 0.0);
+      s.assign(2 * cells, 0.0);
+      for (std::size_t c = 0; c < cells; ++c)
+        {
+          double rigid_r = 0.0, rigid_t = 0.0, rigid_z = 0.0;
+          for (int m = 0; m < 6; ++m)
+            {
+              rigid_r += e[m] * rigid[m][c];
+              rigid_t += e[m] * rigid[m][cells + c];
+              rigid_z += e[m] * rigid[m][2 * cells + c];
+            }
+          d[c]         = law.radial_interference + inc.ball[c] + rigid_r - y[c];
+          s[c]         = inc.ball[cells + c] + rigid_t - y[cells + c];
+          s[cells + c] = inc.ball[2 * cells + c] + rigid_z - y[2 * cells + c];
+        }
+    }
+
+    /// One increment to `loads`: returns its iterations and linear iterations.
+    std::pair<int, int> increment(const ReferenceLoads &loads, std::array<double, 6> &e)
+    {
+      Increment inc;
+      ball_displacement(loads, inc.ball, inc.force);
+      for (double &f : inc.force)
+        f /= area;
+      const double mu = law.friction_coefficient, kt = law.tangential_stiffness;
+      // right-hand side: d_0 on the normal rows; τ_old/k_t + s_0 − s_old on the tangential rows
+      Vector rhs(n, 0.0), diagonal(n, 0.0);
+      for (std::size_t c = 0; c < cells; ++c)
+        {
+          rhs[c]    = law.radial_interference + inc.ball[c];
+          diagonal[c] = 1.0 / law.normal_stiffness;
+        }
+      constexpr std::array<bool, 6> all_modes{true, true, true, true, true, true};
+      std::vector<char>             contact(cells), active(n);
+      for (std::size_t c = 0; c < cells; ++c)
+        contact[c] = started ? x[c] > 0.0 : 1;
+      Vector     d, s, slip_increment(2 * cells, 0.0);
+      int        iterations = 0, linear = 0;
+      const auto update_slip = [&] {
+        kinematics(x, e, inc, d, s);
+        for (std::size_t h = 0; h < 2 * cells; ++h)
+          slip_increment[h] = s[h] - slip_committed[h];
+      };
+      for (; iterations < settings.max_iterations; ++iterations)
+        {
+          // The bristles' secant at the slip and pressure so far; a cell
+          // without pressure yet transmits no shear in this solve.
+          std::fill(active.begin(), active.end(), 0);
+          std::copy(contact.begin(), contact.end(), active.begin());
+          for (std::size_t c = 0; c < cells && friction; ++c)
+            for (int t = 0; t < 2; ++t)
+              {
+                const std::size_t k = (1 + t) * cells + c, h = t * cells + c;
+                const double      mu_p = mu * x[c];
+                if (!contact[c] || !(mu_p > 0.0))
+                  {
+                    x[k] = 0.0;
+                    continue;
+                  }
+                active[k]          = 1;
+                const double ds    = std::hypot(slip_increment[c], slip_increment[cells + c]);
+                const double numer = std::hypot(tau_committed[c] + kt * slip_increment[c],
+                                                tau_committed[cells + c] + kt * slip_increment[cells + c]);
+                double       secant = 1.0 + kt * ds / mu_p;
+                if (numer > mu_p * secant)
+                  secant = numer / mu_p; // the Coulomb clamp
+                // geometric relaxation: the secant swings where the slip turns
+                diagonal[k] = iterations == 0 || diagonal[k] <= 0.0 ? secant / kt : std::sqrt(diagonal[k] * secant / kt);
+                rhs[k]      = tau_committed[h] / kt + inc.ball[k] - slip_committed[h];
+              }
+          linear += solve_linear(active, diagonal, rhs, inc.force, all_modes, x, e);
+          update_slip();
+          // The contact set: cells pulled apart leave, cells penetrating join
+          // (beyond the tolerance, so that a cell at the edge, whose pressure
+          // is round-off, does not flip back and forth).
+          double p_max = 0.0;
+          for (std::size_t c = 0; c < cells; ++c)
+            p_max = std::max(p_max, x[c]);
+          const double p_tolerance = settings.tolerance * p_max, d_tolerance = p_tolerance / law.normal_stiffness;
+          int          changes     = 0;
+          for (std::size_t c = 0; c < cells; ++c)
+            if (contact[c] && x[c] < -p_tolerance)
+              {
+                contact[c] = 0;
+                x[c] = x[cells + c] = x[2 * cells + c] = 0.0;
+                ++changes;
+              }
+            else if (!contact[c] && d[c] > d_tolerance)
+              {
+                contact[c] = 1;
+                ++changes;
+              }
+          // The law at the slip these solves give, against its secant form.
+          double change = 0.0;
+          for (std::size_t c = 0; c < cells; ++c)
+            if (friction && contact[c])
+              {
+                const contact::BristleStep exact =
+                  contact::bristle_step(tau_committed[c], tau_committed[cells + c], kt, mu * std::max(x[c], 0.0),
+                                        slip_increment[c], slip_increment[cells + c]);
+                change = std::max({change, std::abs(exact.x - x[cells + c]), std::abs(exact.y - x[2 * cells + c])});
+              }
+          if (changes == 0 && change <= settings.tolerance * std::max(mu, 1.0) * p_max)
+            {
+              ++iterations;
+              break;
+            }
+        }
+      if (iterations >= settings.max_iterations)
+        throw std::runtime_error("the full-FE reference's increment at t = " + std::to_string(loads.time) +
+                                 " s did not converge in " + std::to_string(settings.max_iterations) +
+                                 " contact-set and friction-law iterations");
+      // Commit: the law's exact tractions and the slip they went with.
+      for (std::size_t c = 0; c < cells; ++c)
+        {
+          if (friction && contact[c] && x[c] > 0.0)
+            {
+              const contact::BristleStep exact =
+                contact::bristle_step(tau_committed[c], tau_committed[cells + c], kt, mu * x[c], slip_increment[c],
+                                      slip_increment[cells + c]);
+              x[cells + c]     = exact.x;
+              x[2 * cells + c] = exact.y;
+            }
+          else
+            x[cells + c] = x[2 * cells + c] = 0.0;
+          tau_committed[c]         = x[cells + c];
+          tau_committed[cells + c] = x[2 * cells + c];
+        }
+      slip_committed = s;
+      return {iterations, linear};
+    }
+
+    ReferenceState state(const ReferenceLoads &loads, const std::array<double, 6> &e, int iterations,
+                         int linear) const
+    {
+      ReferenceState out;
+      out.time              = loads.time;
+      out.rigid_motion      = e;
+      out.iterations        = iterations;
+      out.linear_iterations = linear;
+      out.pressure.assign(x.begin(), x.begin() + static_cast<std::ptrdiff_t>(cells));
+      out.shear_x.resize(cells);
+      out.shear_y.resize(cells);
+      for (std::size_t c = 0; c < cells; ++c)
+        {
+          out.shear_x[c] = -x[cells + c];
+          out.shear_y[c] = -x[2 * cells + c];
+        }
+      if (stress.empty())
+        return out;
+      // The ring's loads per cell: (p, shear_x, shear_y), rows of 6 ny.
+      Vector load(static_cast<std::size_t>(6 * ny) * nx, 0.0), field;
+      std::copy(out.pressure.begin(), out.pressure.end(), load.begin());
+      std::copy(out.shear_x.begin(), out.shear_x.end(), load.begin() + static_cast<std::ptrdiff_t>(cells));
+      std::copy(out.shear_y.begin(), out.shear_y.end(), load.begin() + static_cast<std::ptrdiff_t>(2 * cells));
+      const std::size_t layers = stress.size();
+      out.stress.assign(layers * 6 * cells, 0.0);
+      for (std::size_t layer = 0; layer < layers; ++layer)
+        {
+          stress[layer]->apply(load, field);
+          std::copy(field.begin(), field.end(), out.stress.begin() + static_cast<std::ptrdiff_t>(layer * 6 * cells));
+        }
+      for (std::size_t b = 0; b < loads.ball_angles.size(); ++b)
+        if (loads.ball_loads[b] != 0.0)
+          add_ball(loads.ball_angles[b], loads.ball_loads[b], ring.ball_stress, 6, layers,
+                   [&](std::size_t point, int comp, double value) {
+                     const std::size_t layer = point / cells, cell = point % cells;
+                     out.stress[(layer * 6 + static_cast<std::size_t>(comp)) * cells + cell] += value;
+                   });
+      return out;
+    }
+  };
+
+  FeReference::FeReference(const InterfaceInfluence &ring, const InterfaceInfluence *housing,
+                           const ReferenceInterface &law, const ReferenceSettings &settings)
+    : impl(std::make_unique<Impl>(ring, housing, law, settings))
+  {}
+  FeReference::~FeReference() = default;
+
+  ReferenceState FeReference::advance(const ReferenceLoads &next)
+  {
+    Impl &m = *impl;
+    if (next.ball_angles.size() != next.ball_loads.size())
+      throw std::invalid_argument("models::FeReference: ball angles and loads differ in number");
+    ReferenceLoads from = m.last;
+    if (!m.started)
+      {
+        from             = next;
+        from.ball_loads.assign(next.ball_loads.size(), 0.0);
+      }
+    std::array<double, 6> e{};
+    int                   iterations = 0, linear = 0;
+    for (int step = 1; step <= m.settings.substeps; ++step)
+      {
+        const double   w = double(step) / m.settings.substeps;
+        ReferenceLoads loads;
+        loads.time = (1.0 - w) * from.time + w * next.time;
+        for (std::size_t b = 0; b < next.ball_angles.size(); ++b)
+          {
+            // the cage turns forward: unwrap the angle from the last instant's
+            double to = next.ball_angles[b];
+            const double start = b < from.ball_angles.size() ? from.ball_angles[b] : to;
+            to = start + std::remainder(to - start, 2.0 * M_PI);
+            loads.ball_angles.push_back((1.0 - w) * start + w * to);
+            loads.ball_loads.push_back((1.0 - w) * (b < from.ball_loads.size() ? from.ball_loads[b] : 0.0) +
+                                       w * next.ball_loads[b]);
+          }
+        const auto [its, lin] = m.increment(loads, e);
+        m.started             = true;
+        iterations += its;
+        linear += lin;
+      }
+    m.last = next;
+    return m.state(next, e, iterations, linear);
+  }
+} // namespace fretsim::models

@@ -1,0 +1,139 @@
+#include <fretsim/fem/shifted_static_solver.h>
+#include <fretsim/fem/stress_sampler.h>
+#include <fretsim/fem/surface_point_map.h>
+#include <fretsim/models/interface_influence.h>
+#include <fretsim/reduction/craig_bampton.h>
+
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <numeric>
+#include <stdexcept>
+
+namespace fretsim::models
+{
+  std::array<double, 6> contact_frame_stress(const double *cyl)
+  {
+    // x = θ, y = axial z, z = depth = -r: xx = θθ, yy = zz, zz = rr,
+    // yz = σ(z, -r) = -rz, xz = σ(θ, -r) = -rθ, xy = θz.
+    return {cyl[1], cyl[2], cyl[0], -cyl[4], -cyl[5], cyl[3]};
+  }
+
+  namespace
+  {
+    /// s × s points evenly inside one grid cell, on the cylinder.
+    std::vector<fem::Point3> cell_points(const fem::CylinderGrid &grid, int i, int j, int s)
+    {
+      std::vector<fem::Point3> points;
+      for (int b = 0; b < s; ++b)
+        for (int a = 0; a < s; ++a)
+          {
+            const double x = grid.x_min + (i + (a + 0.5) / s) * grid.hx, z = grid.y_min + (j + (b + 0.5) / s) * grid.hy;
+            const double theta = x / grid.radius;
+            points.push_back({grid.radius * std::cos(theta), grid.radius * std::sin(theta), z});
+          }
+      return points;
+    }
+  } // namespace
+
+  InterfaceInfluence interface_influence(fem::ElasticModel &model, const fem::CylinderGrid &grid,
+                                         const InfluenceRequest &request)
+  {
+    const auto         start = std::chrono::steady_clock::now();
+    const bool         ring  = request.support == InfluenceSupport::free_ring;
+    const int          s     = request.points_per_side;
+    InterfaceInfluence t;
+    t.grid   = grid;
+    t.depths = request.depths;
+    t.dofs   = model.n_dofs();
+    if (request.circumferential_cells == 0 || s < 1)
+      throw std::invalid_argument("models::interface_influence: need the mesh's cells around and s >= 1");
+    t.period = grid.nx / std::gcd(grid.nx, static_cast<int>(request.circumferential_cells));
+    const fem::BoundaryId surface = ring ? fem::BoundaryId::ring_outer : fem::BoundaryId::housing_bore;
+
+    fem::ShiftedStaticSolver solver(model, ring ? reduction::ReductionSettings{}.static_shift_hz : 0.0, ring);
+    // Every cell's points, for the displacement means.
+    std::vector<fem::Point3> all_points;
+    for (int j = 0; j < grid.ny; ++j)
+      for (int i = 0; i < grid.nx; ++i)
+        for (const auto &p : cell_points(grid, i, j, s))
+          all_points.push_back(p);
+    const fem::SurfacePointMap sampler(model, all_points, surface);
+    std::unique_ptr<fem::StressSampler> stress_sampler;
+    if (!t.depths.empty())
+      {
+        std::vector<fem::Point3> below;
+        for (const double depth : t.depths)
+          for (int j = 0; j < grid.ny; ++j)
+            for (int i = 0; i < grid.nx; ++i)
+              {
+                const double r = grid.radius + (ring ? -depth : depth), theta = grid.x(i) / grid.radius;
+                below.push_back({r * std::cos(theta), r * std::sin(theta), grid.y(j)});
+              }
+        stress_sampler = std::make_unique<fem::StressSampler>(model, below, fem::StressFrame::cylindrical);
+      }
+
+    const std::size_t cells = grid.size(), per_cell = static_cast<std::size_t>(s * s);
+    // Displacement means and stresses of one solve, appended to the tables.
+    const auto record = [&](const fem::StaticLoad &load, std::vector<double> &displacement,
+                            std::vector<double> &stress) {
+      const fem::DisplacementField     u       = solver.solve(load);
+      const std::vector<fem::Vector3>  samples = sampler.interpolate(u);
+      for (std::size_t c = 0; c < cells; ++c)
+        {
+          double mean[3] = {0.0, 0.0, 0.0};
+          for (std::size_t q = 0; q < per_cell; ++q)
+            {
+              const fem::Point3  &x = sampler.points()[c * per_cell + q];
+              const fem::Vector3 &v = samples[c * per_cell + q];
+              const double        r = std::hypot(x[0], x[1]), cs = x[0] / r, sn = x[1] / r;
+              mean[0] += cs * v[0] + sn * v[1];
+              mean[1] += -sn * v[0] + cs * v[1];
+              mean[2] += v[2];
+            }
+          for (const double m : mean)
+            displacement.push_back(m / per_cell);
+        }
+      if (stress_sampler)
+        {
+          const std::vector<double> cylindrical = stress_sampler->evaluate(u);
+          for (std::size_t p = 0; p < cylindrical.size() / 6; ++p)
+            {
+              const auto local = contact_frame_stress(&cylindrical[6 * p]);
+              stress.insert(stress.end(), local.begin(), local.end());
+            }
+        }
+      ++t.solves;
+    };
+
+    for (int phase = 0; phase < t.period; ++phase)
+      for (int k = 0; k < 3; ++k)
+        for (int jj = 0; jj < grid.ny; ++jj)
+          {
+            const std::vector<fem::Point3> points = cell_points(grid, phase, jj, s);
+            const fem::SurfacePointMap     map(model, points, surface);
+            fem::PointForceLoad            forces{&map, {}};
+            for (const auto &x : points)
+              {
+                const double r = std::hypot(x[0], x[1]), cs = x[0] / r, sn = x[1] / r;
+                // pressure pushes into the body: inward on a ring, outward on a bore
+                const double f = 1.0 / double(per_cell), radial = ring ? -f : f;
+                forces.forces.push_back(k == 0   ? std::array<double, 3>{radial * cs, radial * sn, 0.0}
+                                        : k == 1 ? std::array<double, 3>{-f * sn, f * cs, 0.0}
+                                                 : std::array<double, 3>{0.0, 0.0, f});
+              }
+            fem::StaticLoad load;
+            load.point_forces.push_back(std::move(forces));
+            record(load, t.displacement, t.stress);
+          }
+    if (request.ball)
+      for (int phase = 0; phase < t.period; ++phase)
+        {
+          fem::StaticLoad load;
+          load.ball_loads.push_back(request.ball(grid.x(phase) / grid.radius));
+          record(load, t.ball_displacement, t.ball_stress);
+        }
+    t.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return t;
+  }
+} // namespace fretsim::models

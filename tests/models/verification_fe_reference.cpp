@@ -1,0 +1,98 @@
+// The full-FE reference of the bearing scene (models/fe_reference.h) against
+// the full FE solved directly: the ring condensed onto the grid must give the
+// same contact problem as the ring itself.
+#include "fem/fem_test_environment.h"
+#include "reduction/bearing_ring.h"
+
+#include <fretsim/fem/surface_grid_map.h>
+#include <fretsim/fem/winkler_foundation.h>
+#include <fretsim/models/fe_reference.h>
+#include <fretsim/models/interface_influence.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+using namespace fretsim;
+
+namespace
+{
+  const fem::Material steel{208e9, 0.3, 7850.0};
+
+  struct SmallRing
+  {
+    std::shared_ptr<const fem::Mesh> mesh;
+    fem::CylinderGrid                grid = fem::CylinderGrid::around(0.040, 0.018, 72, 4);
+    explicit SmallRing(unsigned int around)
+      : mesh(reduction_testing::ring_6208(around, 1, 2, 1))
+    {}
+  };
+
+  models::InfluenceRequest ring_request(unsigned int around, int points_per_side)
+  {
+    models::InfluenceRequest r;
+    r.support               = models::InfluenceSupport::free_ring;
+    r.circumferential_cells = around;
+    r.points_per_side       = points_per_side;
+    r.depths                = {0.0, 2e-4};
+    r.ball                  = [](double angle) { return reduction_testing::raceway_ball_6208(angle, 1.0); };
+    return r;
+  }
+} // namespace
+
+// (a) Frictionless, rigid housing: the reference on the ring's tables against
+// the full FE ring on the same Winkler layer (fem::WinklerFoundationSolver,
+// the active set on the assembled system), three balls on column centres,
+// cell loads at the cell centres (s = 1) as the grid map applies them. The
+// two solve the same discrete problem; what differs is the tables' 1 Hz shift
+// with inertia relief against the foundation solver's 1 Hz shift, a relative
+// (1 Hz / f_1)² ~ 1e-7, and the solvers' tolerances (active sets to 1e-6 of
+// the peak and its edge cells).
+TEST(FeReference, FrictionlessEqualsTheFullFeRingOnTheLayer)
+{
+  for (const unsigned int around : {48u, 72u}) // 48: the mesh repeats every 3 columns of the grid
+    {
+      SmallRing          ring(around);
+      fem::ElasticModel  fe(ring.mesh, {{fem::MaterialId::ring, steel}}, 1);
+      const auto         tables = models::interface_influence(fe, ring.grid, ring_request(around, 1));
+      EXPECT_EQ(tables.period, around == 48 ? 3 : 1);
+      const models::ReferenceInterface law{0.0, 1e15, 1e15, 0.0};
+      models::ReferenceSettings        settings;
+      settings.substeps = 1;
+      models::FeReference reference(tables, nullptr, law, settings);
+
+      models::ReferenceLoads loads;
+      fem::StaticLoad        load;
+      for (const auto &[column, force] : {std::pair{16, 1500.0}, {17, 3000.0}, {19, 2500.0}})
+        {
+          const double angle = ring.grid.x(column) / ring.grid.radius;
+          loads.ball_angles.push_back(angle);
+          loads.ball_loads.push_back(force);
+          load.ball_loads.push_back(reduction_testing::raceway_ball_6208(angle, force));
+        }
+      const models::ReferenceState state = reference.advance(loads);
+
+      fem::ElasticModel             direct(ring.mesh, {{fem::MaterialId::ring, steel}}, 1);
+      const fem::SurfaceGridMap     map(direct, fem::BoundaryId::ring_outer, ring.grid);
+      fem::WinklerFoundationSolver  winkler(direct, map, {1e15, 0.0});
+      const auto                    full = winkler.solve(load);
+      double difference = 0.0, peak = 0.0;
+      for (std::size_t c = 0; c < ring.grid.size(); ++c)
+        {
+          difference = std::max(difference, std::abs(state.pressure[c] - full.grid.pressure[c]));
+          peak       = std::max(peak, full.grid.pressure[c]);
+        }
+      std::printf("around %u: peak %.6g MPa, reference against full FE %.3g of the peak; rigid y %.4g m\n", around,
+                  peak / 1e6, difference / peak, state.rigid_motion[1]);
+      EXPECT_GT(peak, 1e6);
+      EXPECT_LT(difference / peak, 5e-4); // measured 1.1e-4 (48 around) and 8.3e-5 (72)
+      // the ring's force balance: the interface carries the balls' resultant
+      double fy = 0.0, balls = 0.0;
+      for (int j = 0; j < ring.grid.ny; ++j)
+        for (int i = 0; i < ring.grid.nx; ++i)
+          fy += state.pressure[ring.grid.nx * j + i] * ring.grid.cell_area() * std::sin(ring.grid.x(i) / ring.grid.radius);
+      for (std::size_t b = 0; b < loads.ball_angles.size(); ++b)
+        balls += loads.ball_loads[b] * std::sin(loads.ball_angles[b]);
+      EXPECT_LT(std::abs(fy - balls) / balls, 1e-9);
+    }
+}

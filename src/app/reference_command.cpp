@@ -197,19 +197,17 @@ namespace fretsim::app
              std::to_string(d.radial_housing) + "x" + std::to_string(d.axial) + "x" + std::to_string(d.axial_land);
     }
 
-    MeshResult solve_on_mesh(const Inputs &in, const reduction::ReducedModel &model, const Run &run,
-                             const fem::MeshDivisions &divisions, std::size_t snapshots, std::ostream &out,
-                             bool root)
+    /// The ring's tables on one mesh: free, loaded on the grid and by a ball
+    /// with the reduced model's footprint; stresses on the run's layers. The
+    /// FE model lives only while they are made.
+    models::InterfaceInfluence ring_influence(const Inputs &in, const reduction::ReducedModel &model,
+                                              const fem::MeshDivisions &divisions)
     {
-      MeshResult               r;
-      const fem::CylinderGrid &grid = model.interface_grid.grid;
-      r.divisions                   = divisions;
-      const auto table_start        = Clock::now();
       models::RingHousingRequest ring = in.ring;
       ring.divisions                  = divisions;
       ring.refinements                = 0;
-      auto ring_mesh = std::make_shared<const fem::Mesh>(models::build_ring_housing_mesh(ring, in.view.reduction_config));
-      fem::ElasticModel        ring_fe(ring_mesh, ring.materials, ring.degree);
+      auto mesh = std::make_shared<const fem::Mesh>(models::build_ring_housing_mesh(ring, in.view.reduction_config));
+      fem::ElasticModel        fe(mesh, ring.materials, ring.degree);
       models::InfluenceRequest request;
       request.support               = models::InfluenceSupport::free_ring;
       request.circumferential_cells = divisions.circumferential;
@@ -225,23 +223,41 @@ namespace fretsim::app
         ball.force                     = 1.0;
         return ball;
       };
-      const models::InterfaceInfluence ring_tables = models::interface_influence(ring_fe, grid, request);
+      return models::interface_influence(fe, model.interface_grid.grid, request);
+    }
+
+    /// The housing's tables on the same divisions, held as its configuration holds it.
+    models::InterfaceInfluence housing_influence(const Inputs &in, const fem::CylinderGrid &grid,
+                                                 const fem::MeshDivisions &divisions)
+    {
+      models::RingHousingRequest housing = in.housing->request;
+      housing.divisions                  = divisions;
+      housing.refinements                = 0;
+      auto mesh = std::make_shared<const fem::Mesh>(models::build_ring_housing_mesh(housing, ""));
+      fem::ElasticModel        fe(mesh, housing.materials, housing.degree, in.housing->supports);
+      models::InfluenceRequest request;
+      request.support               = models::InfluenceSupport::housing_bore;
+      request.circumferential_cells = divisions.circumferential;
+      request.points_per_side       = in.points_per_side;
+      return models::interface_influence(fe, grid, request);
+    }
+
+    MeshResult solve_on_mesh(const Inputs &in, const reduction::ReducedModel &model, const Run &run,
+                             const fem::MeshDivisions &divisions, std::size_t snapshots, std::ostream &out,
+                             bool root)
+    {
+      MeshResult               r;
+      const fem::CylinderGrid &grid = model.interface_grid.grid;
+      r.divisions                   = divisions;
+      const auto table_start        = Clock::now();
+      const models::InterfaceInfluence ring_tables = ring_influence(in, model, divisions);
       r.ring_dofs                                  = ring_tables.dofs;
       r.period                                     = ring_tables.period;
       std::optional<models::InterfaceInfluence> housing_tables;
       if (in.housing)
         {
-          models::RingHousingRequest housing = in.housing->request;
-          housing.divisions                  = divisions;
-          housing.refinements                = 0;
-          auto mesh = std::make_shared<const fem::Mesh>(models::build_ring_housing_mesh(housing, ""));
-          fem::ElasticModel        housing_fe(mesh, housing.materials, housing.degree, in.housing->supports);
-          models::InfluenceRequest h;
-          h.support               = models::InfluenceSupport::housing_bore;
-          h.circumferential_cells = divisions.circumferential;
-          h.points_per_side       = in.points_per_side;
-          housing_tables          = models::interface_influence(housing_fe, grid, h);
-          r.housing_dofs          = housing_tables->dofs;
+          housing_tables = housing_influence(in, grid, divisions);
+          r.housing_dofs = housing_tables->dofs;
         }
       r.table_seconds = seconds_since(table_start);
 
@@ -358,7 +374,8 @@ namespace fretsim::app
       out << "reference:    " << in.meshes.size() << " full-FE meshes of the ring"
           << (in.housing ? " and the housing" : " on a rigid housing") << ", " << snapshots << " output times of "
           << in.paths.results_file << ", " << in.substeps << " quasi-static increments each, mu = "
-          << in.view.friction_coefficient << "\n";
+          << in.view.friction_coefficient << "\n"
+          << std::flush;
 
     std::vector<MeshResult> results;
     for (const auto &divisions : in.meshes)

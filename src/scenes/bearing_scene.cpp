@@ -276,11 +276,11 @@ namespace fretsim::scenes
       text("Compare/Results file", "",
            "`fretsim compare` and `fretsim reference`: the run to compare; empty: results/<this file's "
            "name>/results.h5 [-]."),
-      text("Reference/Meshes", "90x2x3x4x1; 180x3x4x6x2; 360x4x6x8x2",
+      text("Reference/Meshes", "180x2x3x4x1; 360x3x4x6x2; 360x4x6x8x3",
            "`fretsim reference`: the full-FE meshes of ring and housing, coarse to fine, ';'-separated, each "
            "'around x radial ring x radial housing x axial x axial land' cells (the reduction configuration's "
-           "geometry and material); the cells around must divide the interface grid's columns or be a multiple of "
-           "them [-]."),
+           "geometry and material). The march's cost grows with P = grid columns / gcd(columns, cells around), "
+           "the columns after which the mesh repeats on the grid: 1 for 360 around on 360 columns, 2 for 180 [-]."),
       Spec::real_range("Reference/Radial grading", "4",
                        "`fretsim reference`: radial cells in geometric progression, the thickest this many times the "
                        "thinnest at the interface [-].",

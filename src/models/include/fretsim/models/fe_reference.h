@@ -42,9 +42,9 @@ namespace fretsim::models
   struct ReferenceSettings
   {
     int    substeps  = 4;    ///< increments between two given instants (loads and angles linear in between)
-    double tolerance = 1e-6; ///< law and contact set: traction change below this × μ p_max (or p_max)
+    double tolerance = 1e-5; ///< law and contact set: traction change below this × μ p_max (or p_max)
     double linear_tolerance = 1e-9; ///< conjugate gradients: relative residual
-    int    max_iterations   = 200;  ///< secant and active-set iterations per increment
+    int    max_iterations   = 500;  ///< secant and active-set iterations per increment
   };
 
   /// The state at an instant.

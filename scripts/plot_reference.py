@@ -8,6 +8,7 @@ both models; below, D_max and peak pressure against the meshes. Prints the
 path of the PNG it writes."""
 import csv
 import json
+import math
 import os
 import sys
 
@@ -19,7 +20,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 def main(directory):
     with open(os.path.join(directory, "compare_summary.json")) as f:
-        s = json.load(f)
+        # null (a single mesh: no error bar; a run without stresses) plots as nan
+        s = {k: (math.nan if v is None else v) for k, v in json.load(f).items()}
     with open(os.path.join(directory, "reference_profile.csv")) as f:
         profile = list(csv.DictReader(f))
     with open(os.path.join(directory, "reference.csv")) as f:

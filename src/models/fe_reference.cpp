@@ -538,6 +538,36 @@ namespace fretsim::models
       return {iterations, linear};
     }
 
+    /// The ring's stresses on the tables' layers under the balls and the
+    /// ring's tractions (p pushing in, shear along +θ, +z).
+    Vector ring_stress(const ReferenceLoads &loads, const Vector &pressure, const Vector &shear_x,
+                       const Vector &shear_y) const
+    {
+      Vector out;
+      if (stress.empty())
+        return out;
+      // The ring's loads per cell: (p, shear_x, shear_y), rows of 6 ny.
+      Vector load(static_cast<std::size_t>(6 * ny) * nx, 0.0), field;
+      std::copy(pressure.begin(), pressure.end(), load.begin());
+      std::copy(shear_x.begin(), shear_x.end(), load.begin() + static_cast<std::ptrdiff_t>(cells));
+      std::copy(shear_y.begin(), shear_y.end(), load.begin() + static_cast<std::ptrdiff_t>(2 * cells));
+      const std::size_t layers = stress.size();
+      out.assign(layers * 6 * cells, 0.0);
+      for (std::size_t layer = 0; layer < layers; ++layer)
+        {
+          stress[layer]->apply(load, field);
+          std::copy(field.begin(), field.end(), out.begin() + static_cast<std::ptrdiff_t>(layer * 6 * cells));
+        }
+      for (std::size_t b = 0; b < loads.ball_angles.size(); ++b)
+        if (loads.ball_loads[b] != 0.0)
+          add_ball(loads.ball_angles[b], loads.ball_loads[b], ring.ball_stress, 6, layers,
+                   [&](std::size_t point, int comp, double value) {
+                     const std::size_t layer = point / cells, cell = point % cells;
+                     out[(layer * 6 + static_cast<std::size_t>(comp)) * cells + cell] += value;
+                   });
+      return out;
+    }
+
     ReferenceState state(const ReferenceLoads &loads, const std::array<double, 6> &e, int iterations,
                          int linear) const
     {
@@ -554,27 +584,7 @@ namespace fretsim::models
           out.shear_x[c] = -x[cells + c];
           out.shear_y[c] = -x[2 * cells + c];
         }
-      if (stress.empty())
-        return out;
-      // The ring's loads per cell: (p, shear_x, shear_y), rows of 6 ny.
-      Vector load(static_cast<std::size_t>(6 * ny) * nx, 0.0), field;
-      std::copy(out.pressure.begin(), out.pressure.end(), load.begin());
-      std::copy(out.shear_x.begin(), out.shear_x.end(), load.begin() + static_cast<std::ptrdiff_t>(cells));
-      std::copy(out.shear_y.begin(), out.shear_y.end(), load.begin() + static_cast<std::ptrdiff_t>(2 * cells));
-      const std::size_t layers = stress.size();
-      out.stress.assign(layers * 6 * cells, 0.0);
-      for (std::size_t layer = 0; layer < layers; ++layer)
-        {
-          stress[layer]->apply(load, field);
-          std::copy(field.begin(), field.end(), out.stress.begin() + static_cast<std::ptrdiff_t>(layer * 6 * cells));
-        }
-      for (std::size_t b = 0; b < loads.ball_angles.size(); ++b)
-        if (loads.ball_loads[b] != 0.0)
-          add_ball(loads.ball_angles[b], loads.ball_loads[b], ring.ball_stress, 6, layers,
-                   [&](std::size_t point, int comp, double value) {
-                     const std::size_t layer = point / cells, cell = point % cells;
-                     out.stress[(layer * 6 + static_cast<std::size_t>(comp)) * cells + cell] += value;
-                   });
+      out.stress = ring_stress(loads, out.pressure, out.shear_x, out.shear_y);
       return out;
     }
   };
@@ -584,6 +594,13 @@ namespace fretsim::models
     : impl(std::make_unique<Impl>(ring, housing, law, settings))
   {}
   FeReference::~FeReference() = default;
+
+  std::vector<double> FeReference::ring_stress(const ReferenceLoads &loads, const std::vector<double> &pressure,
+                                              const std::vector<double> &shear_x,
+                                              const std::vector<double> &shear_y) const
+  {
+    return impl->ring_stress(loads, pressure, shear_x, shear_y);
+  }
 
   ReferenceState FeReference::advance(const ReferenceLoads &next)
   {

@@ -75,6 +75,13 @@ namespace fretsim::models
     /// Throws std::runtime_error if an increment does not converge.
     ReferenceState advance(const ReferenceLoads &next);
 
+    /// The full-FE ring's stresses ([layer][6][ny][nx], as ReferenceState)
+    /// under given balls and tractions on the ring (pushing in, along +θ,
+    /// along +z [Pa]): e.g. another model's tractions, to tell its stresses'
+    /// error from its tractions'.
+    std::vector<double> ring_stress(const ReferenceLoads &loads, const std::vector<double> &pressure,
+                                    const std::vector<double> &shear_x, const std::vector<double> &shear_y) const;
+
   private:
     struct Impl;
     std::unique_ptr<Impl> impl;

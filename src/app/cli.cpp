@@ -1,17 +1,18 @@
 #include "app/cli.h"
 
-#include "app/build_info.h"
 #include "app/compare_command.h"
 #include "app/compare_traction.h"
 #include "app/map_command.h"
 #include "app/fe_command.h"
 #include "app/mesh_command.h"
 #include "app/reduce_command.h"
-#include "app/parameters.h"
-#include "app/run_control.h"
 #include "app/stress_benchmark.h"
-#include "output/results_file.h"
-#include "scenes/scene.h"
+
+#include <fretsim/output/results_file.h>
+#include <fretsim/scenes/scene.h>
+#include <fretsim/support/build_info.h>
+#include <fretsim/support/parameters.h>
+#include <fretsim/support/run_control.h>
 
 #include <fretsim/fem/library_info.h>
 #include <fretsim/reduction/library_info.h>

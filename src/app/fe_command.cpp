@@ -4,10 +4,10 @@
 // and writes stress snapshots at sample points, displacement VTU and a summary.
 #include "app/fe_command.h"
 
-#include "app/run_control.h"
-#include "output/stress_snapshots.h"
-#include "output/summary.h"
-#include "scenes/figures.h"
+#include <fretsim/support/run_control.h>
+#include <fretsim/output/stress_snapshots.h>
+#include <fretsim/output/summary.h>
+#include <fretsim/scenes/figures.h>
 
 #include <fretsim/fem/parallel_environment.h>
 #include <fretsim/fem/stress_sampler.h>

@@ -1,7 +1,7 @@
 #include "app/stress_benchmark.h"
 
-#include "app/parameters.h"
-#include "scenes/figures.h"
+#include <fretsim/support/parameters.h>
+#include <fretsim/scenes/figures.h>
 
 #include <fretsim/contact/hertz.h>
 #include <fretsim/contact/subsurface_stress.h>

@@ -1,6 +1,5 @@
 #include "app/cli.h"
 
-#include "app/build_info.h"
 #include "app/compare_command.h"
 #include "app/compare_traction.h"
 #include "app/map_command.h"
@@ -8,11 +7,13 @@
 #include "app/mesh_command.h"
 #include "app/reduce_command.h"
 #include "app/reference_command.h"
-#include "app/parameters.h"
-#include "app/run_control.h"
 #include "app/stress_benchmark.h"
-#include "output/results_file.h"
-#include "scenes/scene.h"
+
+#include <fretsim/output/results_file.h>
+#include <fretsim/scenes/scene.h>
+#include <fretsim/support/build_info.h>
+#include <fretsim/support/parameters.h>
+#include <fretsim/support/run_control.h>
 
 #include <fretsim/fem/library_info.h>
 #include <fretsim/reduction/library_info.h>
@@ -226,6 +227,312 @@ namespace fretsim::app
         }
       return exit_ok;
     }
+
+    /// What the command line sets: the options every command shares, each
+    /// command's own, and the subcommands, to tell which one was given.
+    /// CLI11 writes into these members, so the object stays where it was made.
+    struct CommandLine
+    {
+      std::string              scene;
+      bool                     no_plots = false, quiet = false, force = false;
+      std::vector<std::string> settings;
+      // Every command that writes a folder: a new one, or --force to replace
+      // the previous result of the same command (its own files only).
+      std::vector<std::pair<CLI::Option *, const std::string *>> outputs;
+
+      SceneRunOptions           scene_run;
+      CompareTractionOptions    compare;
+      RingHousingCommandOptions fe_options; // the commands on a ring_housing configuration share them
+      bool                      reduction_study = false;
+      CompareOptions            full_fe_check;
+      ReferenceOptions          reference;
+      MapOptions                map_options;
+      StressBenchmarkOptions    stress_bench;
+
+      CLI::App *run = nullptr, *compare_traction = nullptr, *mesh = nullptr, *fe = nullptr, *reduce = nullptr,
+               *compare_full = nullptr, *reference_command = nullptr, *map = nullptr, *bench_stresses = nullptr;
+
+      void add_output(CLI::App *command, std::string &output, const std::string &help)
+      {
+        outputs.emplace_back(command->add_option("-o,--output", output,
+                                                 help + "; a new folder, or one holding a previous result with --force"),
+                             &output);
+        command->add_flag("--force", force,
+                          "Replace the previous result in the output folder (only the files this command writes)");
+      }
+    };
+
+    /// `fretsim run`, `params` and `compare-traction`.
+    void add_scene_commands(CLI::App &app, CommandLine &line)
+    {
+      auto &scene_run = line.scene_run;
+      line.run        = app.add_subcommand("run", "Run the scene described by a configuration file");
+      line.run->add_option("CONFIG", scene_run.config_file, "Scene file (.prm or .json)")->required();
+      line.add_output(line.run, scene_run.output_directory, "Output directory (default: results/<config name>)");
+      line.run->add_flag("--no-plots", line.no_plots, "Do not write PNG figures");
+      line.run->add_flag("-q,--quiet", line.quiet, "No progress line");
+      line.run->add_flag("--dry-run", scene_run.dry_run,
+                         "Check the configuration and the output folder and print the run's memory and disk "
+                         "estimate; compute and write nothing");
+      line.run->add_option("--set", line.settings,
+                           "Override a parameter, e.g. --set 'Grid/Cells x=256' (repeatable)");
+      auto *params = app.add_subcommand("params", "Print every parameter of a scene: default, allowed values, unit");
+      params->add_option("SCENE", line.scene, "Scene name (default: all scenes)");
+      auto &compare         = line.compare;
+      line.compare_traction = app.add_subcommand(
+        "compare-traction", "Run a scene with each traction model (bristle, elastoplastic bristle, exact) and "
+                            "report run time, loop, energy and D_max differences against the exact model");
+      line.compare_traction->add_option("CONFIG", compare.config_file, "Scene file (.prm or .json)")->required();
+      line.add_output(line.compare_traction, compare.output_directory,
+                      "Output directory (default: results/<config name>-traction)");
+      line.compare_traction->add_flag("--no-plots", line.no_plots, "Do not write the PNG figure");
+      line.compare_traction->add_flag("-q,--quiet", line.quiet, "No progress line");
+      line.compare_traction->add_option("--set", line.settings,
+                                        "Override a parameter, e.g. --set 'Loading/Sliding amplitude=1.12e-6'");
+    }
+
+    /// `fretsim mesh`, `fe` and `reduce`, on a ring_housing configuration.
+    void add_ring_housing_commands(CLI::App &app, CommandLine &line)
+    {
+      const auto add_command = [&](const std::string &name, const std::string &description,
+                                   const std::string &output_help) {
+        auto *command = app.add_subcommand(name, description);
+        command->add_option("CONFIG", line.fe_options.config_file,
+                            "Configuration file (.prm or .json, Scene = ring_housing)")
+          ->required();
+        line.add_output(command, line.fe_options.output, output_help);
+        command->add_option("--set", line.settings, "Override a parameter, e.g. --set 'Mesh/Element degree=1'");
+        return command;
+      };
+      line.mesh = add_command(
+        "mesh",
+        "Build or read the ring/housing FE mesh of a ring_housing configuration, check it, write it with its "
+        "boundary ids for ParaView (VTU) and print cells, DoFs and the ids found",
+        "Output directory (default: results/<config name>-mesh)");
+      line.fe = add_command(
+        "fe", "Full-FE reference solutions of a ring_housing configuration: static load cases, eigenmodes or a "
+              "transient, with stress snapshots in HDF5",
+        "Output directory (default: results/<config name>-fe)");
+      line.fe->add_flag("--no-plots", line.no_plots, "Do not write PNG figures");
+      line.fe->add_flag("-q,--quiet", line.quiet, "No progress display");
+      line.reduce = add_command(
+        "reduce", "Craig-Bampton reduced model of the ring (constraint modes, characteristic constraint modes, "
+                  "fixed-interface modes) written to an HDF5 model file",
+        "Model file (default: results/<config name>-model.h5)");
+      line.reduce->add_flag("--no-plots", line.no_plots, "Do not write PNG figures");
+      line.reduce->add_flag("--study", line.reduction_study,
+                            "Error against run time instead: reduce for every (m, n_cc) of the Reduction/Study lists "
+                            "and compare with the full FE model (table, CSV, PNG; -o is then a directory)");
+      line.reduce->add_flag("-q,--quiet", line.quiet, "No progress display");
+    }
+
+    /// `fretsim compare`, `reference` and `map`.
+    void add_compare_and_map_commands(CLI::App &app, CommandLine &line)
+    {
+      auto &full_fe_check = line.full_fe_check;
+      line.compare_full   = app.add_subcommand(
+        "compare", "Check a bearing_housing run's reduced ring against the full FE model: the same ball loads and "
+                   "interface tractions at N instants, errors of the recovered displacements and stresses, run "
+                   "times, and the error against the reduced model's size (table, CSV, PNG)");
+      line.compare_full
+        ->add_option("CONFIG", full_fe_check.config_file, "Scene file (.prm or .json, Scene = bearing_housing)")
+        ->required();
+      line.add_output(line.compare_full, full_fe_check.output_directory,
+                      "Output directory (default: results/<config name>-compare)");
+      line.compare_full->add_flag("--no-plots", line.no_plots, "Do not write the PNG figure");
+      line.compare_full->add_flag("-q,--quiet", line.quiet, "No progress display");
+      line.compare_full->add_option("--set", line.settings, "Override a parameter, e.g. --set 'Compare/Instants=8'");
+      auto &reference         = line.reference;
+      line.reference_command = app.add_subcommand(
+        "reference", "Set a bearing_housing run against the full FE of the same scene: ring and housing meshed on "
+                     "Reference/Meshes, driven by the run's ball loads with its layer and friction, the same Dang "
+                     "Van (D_max and peak pressure of both, the reference's error bar; table, CSV, PNG)");
+      line.reference_command
+        ->add_option("CONFIG", reference.config_file, "Scene file (.prm or .json, Scene = bearing_housing)")
+        ->required();
+      line.add_output(line.reference_command, reference.output_directory,
+                      "Output directory (default: results/<config name>-reference)");
+      line.reference_command->add_flag("--no-plots", line.no_plots, "Do not write the PNG figure");
+      line.reference_command->add_flag("-q,--quiet", line.quiet, "No progress display");
+      line.reference_command->add_option("--set", line.settings,
+                                         "Override a parameter, e.g. --set 'Reference/Substeps=8'");
+      line.map = add_map_command(app, line.map_options);
+      line.add_output(line.map, line.map_options.output_directory,
+                      "Output directory (default: results/<config name>-map); the same command with the same "
+                      "folder continues a map that stopped");
+      line.map->add_flag("--no-plots", line.no_plots, "Do not write the PNG figure");
+      line.map->add_flag("-q,--quiet", line.quiet, "No progress line");
+      line.map->add_option("--set", line.settings,
+                           "Override a parameter at every point, e.g. --set 'Grid/Cells x=64'");
+    }
+
+    /// `fretsim bench stresses`.
+    void add_bench_commands(CLI::App &app, CommandLine &line)
+    {
+      auto *bench = app.add_subcommand("bench", "Error against run time of the numerical approximations");
+      bench->require_subcommand(1);
+      auto &stress_bench  = line.stress_bench;
+      line.bench_stresses = bench->add_subcommand(
+        "stresses", "Subsurface-stress evaluators (direct, MLMI, DC-FFT): run time and error against direct "
+                    "summation over grid sizes, depth layers and threads; table, CSV and PNG");
+      auto *stresses = line.bench_stresses;
+      stresses->add_option("--sizes", stress_bench.sizes, "Cells per side")->delimiter(',')->capture_default_str();
+      stresses->add_option("--layers", stress_bench.layers, "Depth-layer counts")->delimiter(',')->capture_default_str();
+      stresses->add_option("--threads", stress_bench.threads, "Thread counts")->delimiter(',')->capture_default_str();
+      stresses->add_option("--direct-limit", stress_bench.direct_time_limit,
+                           "Run direct summation only where its predicted time is below this [s]")
+        ->capture_default_str();
+      line.add_output(stresses, stress_bench.output_directory,
+                      "Output directory (default: " + stress_bench.output_directory + ")");
+      stresses->add_flag("--no-plots", line.no_plots, "Do not write the PNG figure");
+    }
+
+    /// A command's files, absolute, one a line: figures as such, the others under `label`.
+    void print_files(const std::vector<std::string> &files, const char *label)
+    {
+      for (const auto &file : files)
+        std::cout << (file.size() > 4 && file.substr(file.size() - 4) == ".png" ? "figure:   " : label)
+                  << std::filesystem::absolute(file).string() << "\n";
+    }
+
+    int run_traction_comparison_command(CommandLine &line)
+    {
+      auto &compare     = line.compare;
+      compare.plots     = !line.no_plots;
+      compare.progress  = !line.quiet;
+      compare.overrides = parse_overrides(line.settings);
+      const auto folder = claim_output(compare.output_directory, compare.config_file, "-traction",
+                                       {"compare_traction.csv", "compare_traction.png", "bristle/",
+                                        "elastoplastic_bristle/", "exact_masing/", "exact/"},
+                                       line.force);
+      install_interrupt_handlers();
+      print_files(run_traction_comparison(compare), "table:    ");
+      return exit_ok;
+    }
+
+    /// `mesh`, `fe` or `reduce`: the output (a folder, or a model file) claimed, then the command.
+    int run_ring_housing_command(CommandLine &line)
+    {
+      auto      &fe_options = line.fe_options;
+      const bool mesh(*line.mesh), fe(*line.fe), reduce(*line.reduce);
+      fe_options.overrides = parse_overrides(line.settings);
+      fe_options.progress  = !line.quiet;
+      fe_options.plots     = !line.no_plots;
+      std::unique_ptr<OutputFolder> folder;
+      if (reduce && !line.reduction_study)
+        {
+          if (fe_options.output.empty())
+            fe_options.output = default_output(fe_options.config_file, "-model.h5");
+          prepare_output_file(fe_options.output, "-o", line.force);
+        }
+      else if (reduce)
+        folder = claim_output(fe_options.output, fe_options.config_file, "-reduction-study",
+                              {"reduction_study.csv", "reduction_study.png"}, line.force);
+      else if (mesh)
+        folder = claim_output(fe_options.output, fe_options.config_file, "-mesh", {"mesh*.vtu", "mesh*.pvtu"},
+                              line.force);
+      else
+        folder = claim_output(fe_options.output, fe_options.config_file, "-fe",
+                              {"results.h5", "results.xdmf", "results.xdmf.tmp", "summary.json", "summary.json.tmp",
+                               "fe_stress.png", "fe_modes.png", "displacement*.vtu", "displacement*.pvtu",
+                               "fit_displacement*.vtu", "fit_displacement*.pvtu", "mode_*.vtu", "mode_*.pvtu"},
+                              line.force);
+      if (mesh)
+        {
+          run_mesh_command(fe_options, std::cout);
+          return exit_ok;
+        }
+      // `fe` stops a transient between steps and keeps what it wrote; a
+      // reduction has no steps to keep (its file appears complete or not at
+      // all), so Ctrl-C simply ends it.
+      if (fe)
+        install_interrupt_handlers();
+      print_files(fe                   ? run_fe_command(fe_options, std::cout) :
+                  line.reduction_study ? run_reduction_study(fe_options, std::cout) :
+                                         run_reduce_command(fe_options, std::cout),
+                  "written:  ");
+      return exit_ok;
+    }
+
+    int run_full_fe_comparison_command(CommandLine &line)
+    {
+      auto &full_fe_check     = line.full_fe_check;
+      full_fe_check.overrides = parse_overrides(line.settings);
+      full_fe_check.plots     = !line.no_plots;
+      full_fe_check.progress  = !line.quiet;
+      const auto folder = claim_output(full_fe_check.output_directory, full_fe_check.config_file, "-compare",
+                                       {"compare.csv", "compare_housing.csv", "compare_transient.csv",
+                                        "compare_pressure.csv", "compare.png"},
+                                       line.force);
+      print_files(run_compare_command(full_fe_check, std::cout), "table:    ");
+      return exit_ok;
+    }
+
+    int run_reference(CommandLine &line)
+    {
+      auto &reference     = line.reference;
+      reference.overrides = parse_overrides(line.settings);
+      reference.plots     = !line.no_plots;
+      reference.progress  = !line.quiet;
+      const auto folder   = claim_output(reference.output_directory, reference.config_file, "-reference",
+                                         {"compare_summary.json", "reference.csv", "reference_profile.csv",
+                                          "reference.png"},
+                                         line.force);
+      print_files(run_reference_command(reference, std::cout), "table:    ");
+      return exit_ok;
+    }
+
+    int run_map(CommandLine &line)
+    {
+      auto &map_options = line.map_options;
+      if (map_options.output_directory.empty())
+        map_options.output_directory = default_output(map_options.config_file, "-map");
+      map_options.overrides = parse_overrides(line.settings);
+      map_options.plots     = !line.no_plots;
+      map_options.progress  = !line.quiet;
+      map_options.force     = line.force;
+      print_files(run_map_command(map_options), "written:  ");
+      return interrupt_requested() ? 128 + interrupt_signal() : exit_ok;
+    }
+
+    int run_stress_benchmark_command(CommandLine &line)
+    {
+      line.stress_bench.plots = !line.no_plots;
+      const auto folder       = claim_output(line.stress_bench.output_directory,
+                                             {"stress_benchmark.csv", "stress_benchmark.png"}, line.force);
+      print_files(run_stress_benchmark(line.stress_bench), "table:    ");
+      return exit_ok;
+    }
+
+    /// Runs the command that was given; its exit code.
+    int run_given_command(CommandLine &line)
+    {
+      // An empty -o is a mistake (an unset shell variable), not the default.
+      for (const auto &[option, value] : line.outputs)
+        if (option->count() > 0 && value->empty())
+          throw InputError("(command line)", "-o", "expected a folder, got ''");
+      if (*line.run)
+        {
+          line.scene_run.plots    = !line.no_plots;
+          line.scene_run.quiet    = line.quiet;
+          line.scene_run.force    = line.force;
+          line.scene_run.settings = line.settings;
+          return run_scene(line.scene_run);
+        }
+      if (*line.compare_traction)
+        return run_traction_comparison_command(line);
+      if (*line.mesh || *line.fe || *line.reduce)
+        return run_ring_housing_command(line);
+      if (*line.compare_full)
+        return run_full_fe_comparison_command(line);
+      if (*line.reference_command)
+        return run_reference(line);
+      if (*line.map)
+        return run_map(line);
+      if (*line.bench_stresses)
+        return run_stress_benchmark_command(line);
+      return print_parameters(line.scene);
+    }
   } // namespace
 
   int run_command_line(int argc, char **argv)
@@ -233,118 +540,11 @@ namespace fretsim::app
     CLI::App app{"FretSim: fretting-fatigue simulation of machine contacts (SI units throughout)", "fretsim"};
     app.set_version_flag("--version", version_text());
     app.require_subcommand(1);
-
-    std::string scene;
-    bool        no_plots = false, quiet = false, force = false;
-    // Every command that writes a folder: a new one, or --force to replace
-    // the previous result of the same command (its own files only).
-    std::vector<std::pair<CLI::Option *, const std::string *>> outputs;
-    const auto add_output = [&force, &outputs](CLI::App *command, std::string &output, const std::string &help) {
-      outputs.emplace_back(command->add_option("-o,--output", output,
-                                               help + "; a new folder, or one holding a previous result with --force"),
-                           &output);
-      command->add_flag("--force", force,
-                        "Replace the previous result in the output folder (only the files this command writes)");
-    };
-    SceneRunOptions scene_run;
-    auto *run = app.add_subcommand("run", "Run the scene described by a configuration file");
-    run->add_option("CONFIG", scene_run.config_file, "Scene file (.prm or .json)")->required();
-    add_output(run, scene_run.output_directory, "Output directory (default: results/<config name>)");
-    run->add_flag("--no-plots", no_plots, "Do not write PNG figures");
-    run->add_flag("-q,--quiet", quiet, "No progress line");
-    run->add_flag("--dry-run", scene_run.dry_run,
-                  "Check the configuration and the output folder and print the run's memory and disk estimate; "
-                  "compute and write nothing");
-    std::vector<std::string> settings;
-    run->add_option("--set", settings, "Override a parameter, e.g. --set 'Grid/Cells x=256' (repeatable)");
-    auto *params = app.add_subcommand("params", "Print every parameter of a scene: default, allowed values, unit");
-    params->add_option("SCENE", scene, "Scene name (default: all scenes)");
-    CompareTractionOptions compare;
-    auto *compare_traction = app.add_subcommand(
-      "compare-traction", "Run a scene with each traction model (bristle, elastoplastic bristle, exact) and "
-                          "report run time, loop, energy and D_max differences against the exact model");
-    compare_traction->add_option("CONFIG", compare.config_file, "Scene file (.prm or .json)")->required();
-    add_output(compare_traction, compare.output_directory, "Output directory (default: results/<config name>-traction)");
-    compare_traction->add_flag("--no-plots", no_plots, "Do not write the PNG figure");
-    compare_traction->add_flag("-q,--quiet", quiet, "No progress line");
-    compare_traction->add_option("--set", settings, "Override a parameter, e.g. --set 'Loading/Sliding amplitude=1.12e-6'");
-    // The commands on a ring_housing configuration share their options.
-    RingHousingCommandOptions fe_options;
-    auto add_ring_housing_command = [&](const std::string &name, const std::string &description,
-                                        const std::string &output_help) {
-      auto *command = app.add_subcommand(name, description);
-      command->add_option("CONFIG", fe_options.config_file,
-                          "Configuration file (.prm or .json, Scene = ring_housing)")
-        ->required();
-      add_output(command, fe_options.output, output_help);
-      command->add_option("--set", settings, "Override a parameter, e.g. --set 'Mesh/Element degree=1'");
-      return command;
-    };
-    auto *mesh = add_ring_housing_command(
-      "mesh",
-      "Build or read the ring/housing FE mesh of a ring_housing configuration, check it, write it with its "
-      "boundary ids for ParaView (VTU) and print cells, DoFs and the ids found",
-      "Output directory (default: results/<config name>-mesh)");
-    auto *fe = add_ring_housing_command(
-      "fe", "Full-FE reference solutions of a ring_housing configuration: static load cases, eigenmodes or a "
-            "transient, with stress snapshots in HDF5",
-      "Output directory (default: results/<config name>-fe)");
-    fe->add_flag("--no-plots", no_plots, "Do not write PNG figures");
-    fe->add_flag("-q,--quiet", quiet, "No progress display");
-    auto *reduce = add_ring_housing_command(
-      "reduce", "Craig-Bampton reduced model of the ring (constraint modes, characteristic constraint modes, "
-                "fixed-interface modes) written to an HDF5 model file",
-      "Model file (default: results/<config name>-model.h5)");
-    reduce->add_flag("--no-plots", no_plots, "Do not write PNG figures");
-    bool reduction_study = false;
-    reduce->add_flag("--study", reduction_study,
-                     "Error against run time instead: reduce for every (m, n_cc) of the Reduction/Study lists and "
-                     "compare with the full FE model (table, CSV, PNG; -o is then a directory)");
-    reduce->add_flag("-q,--quiet", quiet, "No progress display");
-    CompareOptions full_fe_check;
-    auto *compare_full = app.add_subcommand(
-      "compare", "Check a bearing_housing run's reduced ring against the full FE model: the same ball loads and "
-                 "interface tractions at N instants, errors of the recovered displacements and stresses, run times, "
-                 "and the error against the reduced model's size (table, CSV, PNG)");
-    compare_full->add_option("CONFIG", full_fe_check.config_file, "Scene file (.prm or .json, Scene = bearing_housing)")
-      ->required();
-    add_output(compare_full, full_fe_check.output_directory, "Output directory (default: results/<config name>-compare)");
-    compare_full->add_flag("--no-plots", no_plots, "Do not write the PNG figure");
-    compare_full->add_flag("-q,--quiet", quiet, "No progress display");
-    compare_full->add_option("--set", settings, "Override a parameter, e.g. --set 'Compare/Instants=8'");
-    ReferenceOptions reference;
-    auto *reference_command = app.add_subcommand(
-      "reference", "Set a bearing_housing run against the full FE of the same scene: ring and housing meshed on "
-                   "Reference/Meshes, driven by the run's ball loads with its layer and friction, the same Dang Van "
-                   "(D_max and peak pressure of both, the reference's error bar; table, CSV, PNG)");
-    reference_command->add_option("CONFIG", reference.config_file, "Scene file (.prm or .json, Scene = bearing_housing)")
-      ->required();
-    add_output(reference_command, reference.output_directory, "Output directory (default: results/<config name>-reference)");
-    reference_command->add_flag("--no-plots", no_plots, "Do not write the PNG figure");
-    reference_command->add_flag("-q,--quiet", quiet, "No progress display");
-    reference_command->add_option("--set", settings, "Override a parameter, e.g. --set 'Reference/Substeps=8'");
-    MapOptions map_options;
-    auto      *map = add_map_command(app, map_options);
-    add_output(map, map_options.output_directory,
-               "Output directory (default: results/<config name>-map); the same command with the same folder "
-               "continues a map that stopped");
-    map->add_flag("--no-plots", no_plots, "Do not write the PNG figure");
-    map->add_flag("-q,--quiet", quiet, "No progress line");
-    map->add_option("--set", settings, "Override a parameter at every point, e.g. --set 'Grid/Cells x=64'");
-    auto *bench = app.add_subcommand("bench", "Error against run time of the numerical approximations");
-    bench->require_subcommand(1);
-    StressBenchmarkOptions stress_bench;
-    auto *bench_stresses = bench->add_subcommand(
-      "stresses", "Subsurface-stress evaluators (direct, MLMI, DC-FFT): run time and error against direct "
-                  "summation over grid sizes, depth layers and threads; table, CSV and PNG");
-    bench_stresses->add_option("--sizes", stress_bench.sizes, "Cells per side")->delimiter(',')->capture_default_str();
-    bench_stresses->add_option("--layers", stress_bench.layers, "Depth-layer counts")->delimiter(',')->capture_default_str();
-    bench_stresses->add_option("--threads", stress_bench.threads, "Thread counts")->delimiter(',')->capture_default_str();
-    bench_stresses->add_option("--direct-limit", stress_bench.direct_time_limit,
-                               "Run direct summation only where its predicted time is below this [s]")
-      ->capture_default_str();
-    add_output(bench_stresses, stress_bench.output_directory, "Output directory (default: " + stress_bench.output_directory + ")");
-    bench_stresses->add_flag("--no-plots", no_plots, "Do not write the PNG figure");
+    CommandLine line;
+    add_scene_commands(app, line);
+    add_ring_housing_commands(app, line);
+    add_compare_and_map_commands(app, line);
+    add_bench_commands(app, line);
 
     try
       {
@@ -358,130 +558,7 @@ namespace fretsim::app
 
     try
       {
-        // An empty -o is a mistake (an unset shell variable), not the default.
-        for (const auto &[option, value] : outputs)
-          if (option->count() > 0 && value->empty())
-            throw InputError("(command line)", "-o", "expected a folder, got ''");
-        if (*run)
-          {
-            scene_run.plots    = !no_plots;
-            scene_run.quiet    = quiet;
-            scene_run.force    = force;
-            scene_run.settings = settings;
-            return run_scene(scene_run);
-          }
-        if (*compare_traction)
-          {
-            compare.plots    = !no_plots;
-            compare.progress = !quiet;
-            compare.overrides = parse_overrides(settings);
-            const auto folder = claim_output(compare.output_directory, compare.config_file, "-traction",
-                                             {"compare_traction.csv", "compare_traction.png", "bristle/",
-                                              "elastoplastic_bristle/", "exact_masing/", "exact/"},
-                                             force);
-            install_interrupt_handlers();
-            for (const auto &file : run_traction_comparison(compare))
-              std::cout << (file.size() > 4 && file.substr(file.size() - 4) == ".png" ? "figure:   " : "table:    ")
-                        << std::filesystem::absolute(file).string() << "\n";
-            return exit_ok;
-          }
-        if (*mesh || *fe || *reduce)
-          {
-            fe_options.overrides = parse_overrides(settings);
-            fe_options.progress  = !quiet;
-            fe_options.plots     = !no_plots;
-            std::unique_ptr<OutputFolder> folder;
-            if (*reduce && !reduction_study)
-              {
-                if (fe_options.output.empty())
-                  fe_options.output = default_output(fe_options.config_file, "-model.h5");
-                prepare_output_file(fe_options.output, "-o", force);
-              }
-            else if (*reduce)
-              folder = claim_output(fe_options.output, fe_options.config_file, "-reduction-study",
-                                    {"reduction_study.csv", "reduction_study.png"}, force);
-            else if (*mesh)
-              folder = claim_output(fe_options.output, fe_options.config_file, "-mesh", {"mesh*.vtu", "mesh*.pvtu"},
-                                    force);
-            else
-              {
-                folder = claim_output(fe_options.output, fe_options.config_file, "-fe",
-                                      {"results.h5", "results.xdmf", "results.xdmf.tmp", "summary.json",
-                                       "summary.json.tmp", "fe_stress.png", "fe_modes.png", "displacement*.vtu",
-                                       "displacement*.pvtu", "fit_displacement*.vtu", "fit_displacement*.pvtu",
-                                       "mode_*.vtu", "mode_*.pvtu"},
-                                      force);
-              }
-            if (*mesh)
-              run_mesh_command(fe_options, std::cout);
-            else
-              {
-                // `fe` stops a transient between steps and keeps what it wrote; a
-                // reduction has no steps to keep (its file appears complete or
-                // not at all), so Ctrl-C simply ends it.
-                if (*fe)
-                  install_interrupt_handlers();
-                const auto files = *fe              ? run_fe_command(fe_options, std::cout) :
-                                   reduction_study ? run_reduction_study(fe_options, std::cout) :
-                                                     run_reduce_command(fe_options, std::cout);
-                for (const auto &file : files)
-                  std::cout << (file.size() > 4 && file.substr(file.size() - 4) == ".png" ? "figure:   " : "written:  ")
-                            << std::filesystem::absolute(file).string() << "\n";
-              }
-            return exit_ok;
-          }
-        if (*compare_full)
-          {
-            full_fe_check.overrides = parse_overrides(settings);
-            full_fe_check.plots     = !no_plots;
-            full_fe_check.progress  = !quiet;
-            const auto folder = claim_output(full_fe_check.output_directory, full_fe_check.config_file, "-compare",
-                                             {"compare.csv", "compare_housing.csv", "compare_transient.csv",
-                                              "compare_pressure.csv", "compare.png"},
-                                             force);
-            for (const auto &file : run_compare_command(full_fe_check, std::cout))
-              std::cout << (file.size() > 4 && file.substr(file.size() - 4) == ".png" ? "figure:   " : "table:    ")
-                        << std::filesystem::absolute(file).string() << "\n";
-            return exit_ok;
-          }
-        if (*reference_command)
-          {
-            reference.overrides = parse_overrides(settings);
-            reference.plots     = !no_plots;
-            reference.progress  = !quiet;
-            const auto folder   = claim_output(reference.output_directory, reference.config_file, "-reference",
-                                               {"compare_summary.json", "reference.csv", "reference_profile.csv",
-                                                "reference.png"},
-                                               force);
-            for (const auto &file : run_reference_command(reference, std::cout))
-              std::cout << (file.size() > 4 && file.substr(file.size() - 4) == ".png" ? "figure:   " : "table:    ")
-                        << std::filesystem::absolute(file).string() << "\n";
-            return exit_ok;
-          }
-        if (*map)
-          {
-            if (map_options.output_directory.empty())
-              map_options.output_directory = default_output(map_options.config_file, "-map");
-            map_options.overrides = parse_overrides(settings);
-            map_options.plots     = !no_plots;
-            map_options.progress  = !quiet;
-            map_options.force     = force;
-            for (const auto &file : run_map_command(map_options))
-              std::cout << (file.size() > 4 && file.substr(file.size() - 4) == ".png" ? "figure:   " : "written:  ")
-                        << std::filesystem::absolute(file).string() << "\n";
-            return interrupt_requested() ? 128 + interrupt_signal() : exit_ok;
-          }
-        if (*bench_stresses)
-          {
-            stress_bench.plots = !no_plots;
-            const auto folder  = claim_output(stress_bench.output_directory,
-                                              {"stress_benchmark.csv", "stress_benchmark.png"}, force);
-            for (const auto &file : run_stress_benchmark(stress_bench))
-              std::cout << (file.size() > 4 && file.substr(file.size() - 4) == ".png" ? "figure:   " : "table:    ")
-                        << std::filesystem::absolute(file).string() << "\n";
-            return exit_ok;
-          }
-        return print_parameters(scene);
+        return run_given_command(line);
       }
     catch (const InputError &error)
       {

@@ -2,9 +2,9 @@
 
 #include "app/compare_housing.h"
 
-#include "output/results_file.h"
-#include "scenes/figures.h"
-#include "scenes/scene.h"
+#include <fretsim/output/results_file.h>
+#include <fretsim/scenes/figures.h>
+#include <fretsim/scenes/scene.h>
 
 #include <fretsim/coupling/ring_coupling.h>
 #include <fretsim/fem/parallel_environment.h>

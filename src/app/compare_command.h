@@ -38,7 +38,7 @@
 // the shift holds only the rotation about the axis and the axial translation,
 // which move no cell radially. compare_pressure.csv holds the pressure along
 // the circumference (axial mid-row) at the instant of the highest full peak.
-#include "app/parameters.h" // InputError
+#include <fretsim/support/parameters.h> // InputError
 
 #include <iosfwd>
 #include <string>

@@ -1,6 +1,6 @@
 #include "app/compare_housing.h"
 
-#include "app/parameters.h"
+#include <fretsim/support/parameters.h>
 
 #include <fretsim/fem/surface_grid_map.h>
 #include <fretsim/models/reduced_statics.h>

@@ -1,10 +1,10 @@
 #include "app/compare_traction.h"
 
-#include "app/parameters.h"
-#include "app/run_control.h"
-#include "output/results_file.h"
-#include "scenes/figures.h"
-#include "scenes/scene.h"
+#include <fretsim/support/parameters.h>
+#include <fretsim/support/run_control.h>
+#include <fretsim/output/results_file.h>
+#include <fretsim/scenes/figures.h>
+#include <fretsim/scenes/scene.h>
 
 #include <algorithm>
 #include <cmath>

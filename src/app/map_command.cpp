@@ -1,11 +1,11 @@
 #include "app/map_command.h"
 
-#include "app/parameters.h"
-#include "app/progress.h"
-#include "app/run_control.h"
-#include "output/map_file.h"
-#include "scenes/figures.h"
-#include "scenes/scene.h"
+#include <fretsim/support/parameters.h>
+#include <fretsim/support/progress.h>
+#include <fretsim/support/run_control.h>
+#include <fretsim/output/map_file.h>
+#include <fretsim/scenes/figures.h>
+#include <fretsim/scenes/scene.h>
 
 #include <fretsim/fem/parallel_environment.h>
 

@@ -1,6 +1,6 @@
 #include "app/reduce_command.h"
 
-#include "scenes/figures.h"
+#include <fretsim/scenes/figures.h>
 
 #include <fretsim/models/reduction.h>
 

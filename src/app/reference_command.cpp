@@ -2,11 +2,11 @@
 
 #include "app/compare_command.h"
 
-#include "output/results_file.h"
-#include "output/summary.h"
-#include "scenes/bearing_scene.h"
-#include "scenes/figures.h"
-#include "scenes/scene.h"
+#include <fretsim/output/results_file.h>
+#include <fretsim/output/summary.h>
+#include <fretsim/scenes/bearing_scene.h>
+#include <fretsim/scenes/figures.h>
+#include <fretsim/scenes/scene.h>
 
 #include <fretsim/contact/dang_van.h>
 #include <fretsim/contact/subsurface_stress.h>

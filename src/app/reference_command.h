@@ -10,7 +10,7 @@
 // meshes its error bar. Writes compare_summary.json (the verdict),
 // reference.csv (one row per mesh), reference_profile.csv and
 // reference.png (pressure and D_max around the ring, both models).
-#include "app/parameters.h" // InputError
+#include <fretsim/support/parameters.h> // InputError
 
 #include <iosfwd>
 #include <string>

@@ -1,7 +1,7 @@
 #include "app/stress_benchmark.h"
 
-#include "app/parameters.h"
-#include "scenes/figures.h"
+#include <fretsim/support/parameters.h>
+#include <fretsim/scenes/figures.h>
 
 #include <fretsim/contact/hertz.h>
 #include <fretsim/contact/subsurface_stress.h>
@@ -171,116 +171,119 @@ namespace fretsim::app
                 << error.str() << "  " << r.reference << std::setw(10) << std::fixed << std::setprecision(0)
                 << r.memory_megabytes << std::defaultfloat << "\n";
     }
-  } // namespace
 
-  std::vector<std::string> run_stress_benchmark(const StressBenchmarkOptions &options)
-  {
-    check_options(options);
-    std::filesystem::create_directories(options.output_directory);
-    const int default_threads = omp_get_max_threads();
+    void print_header()
+    {
+      std::cout << "Subsurface stresses of a sliding Hertz contact (p, qx = 0.3p, qy = 0.1p; layers 0 .. 0.6a).\n"
+                << "time: best of repeated evaluations; vs direct: direct time / evaluator time, same thread count\n"
+                << "(~: direct skipped, its time predicted from the largest direct run as n^4 x layers);\n"
+                << "error: max over all points, layers and components of |sigma - reference| / p0.\n\n"
+                << std::left << std::setw(10) << "grid" << std::right << std::setw(7) << "layers" << "  " << std::left
+                << std::setw(7) << "method" << std::right << std::setw(8) << "threads" << std::setw(11) << "setup [s]"
+                << std::setw(13) << "time [s]" << std::setw(12) << "vs direct" << std::setw(12) << "error/p0"
+                << "  reference  memory [MB]\n";
+    }
 
-    std::cout << "Subsurface stresses of a sliding Hertz contact (p, qx = 0.3p, qy = 0.1p; layers 0 .. 0.6a).\n"
-              << "time: best of repeated evaluations; vs direct: direct time / evaluator time, same thread count\n"
-              << "(~: direct skipped, its time predicted from the largest direct run as n^4 x layers);\n"
-              << "error: max over all points, layers and components of |sigma - reference| / p0.\n\n"
-              << std::left << std::setw(10) << "grid" << std::right << std::setw(7) << "layers" << "  " << std::left
-              << std::setw(7) << "method" << std::right << std::setw(8) << "threads" << std::setw(11) << "setup [s]"
-              << std::setw(13) << "time [s]" << std::setw(12) << "vs direct" << std::setw(12) << "error/p0"
-              << "  reference  memory [MB]\n";
+    /// Sets up and times one evaluator on the case (its row's setup time,
+    /// time and memory); the stresses it computed.
+    contact::StressField measure(Row &row, const LoadCase &c)
+    {
+      contact::StressEvaluatorSettings settings;
+      settings.method         = row.evaluator;
+      const double rss_before = resident_megabytes();
+      auto         start      = Clock::now();
+      const auto   evaluator  = contact::make_subsurface_stress(c.grid, c.depths, c.poisson_ratio, settings);
+      row.setup_seconds       = std::chrono::duration<double>(Clock::now() - start).count();
+      contact::StressField stress;
+      row.seconds          = time_evaluation(*evaluator, c, stress, row.evaluator == "direct");
+      row.measured         = true;
+      row.memory_megabytes = resident_megabytes() - rss_before;
+      return stress;
+    }
 
-    std::vector<Row> rows;
-    // Seconds per (cells^4 x layer) of direct summation, per thread count,
-    // from the latest direct run: predicts the next one.
-    std::map<int, double> direct_rate;
-    for (const int cells : options.sizes)
-      for (const int layers : options.layers)
-        {
-          const LoadCase c = sliding_hertz_case(cells, layers);
-          const double   work = std::pow(static_cast<double>(cells), 4) * layers;
-          std::map<int, double> direct_seconds;
-          std::map<int, bool>   direct_measured;
-          contact::StressField  reference;
-          std::string           reference_name;
-          for (const std::string evaluator_name : {"direct", "fft", "mlmi"})
-            for (const int threads : options.threads)
+    /// One grid and layer count under every evaluator and thread count, into
+    /// `rows`. `direct_rate`: seconds per (cells^4 x layer) of direct
+    /// summation, per thread count, from the latest direct run: predicts the
+    /// next one.
+    void measure_case(int cells, int layers, const StressBenchmarkOptions &options,
+                      std::map<int, double> &direct_rate, std::vector<Row> &rows)
+    {
+      const LoadCase c = sliding_hertz_case(cells, layers);
+      const double   work = std::pow(static_cast<double>(cells), 4) * layers;
+      std::map<int, double> direct_seconds;
+      std::map<int, bool>   direct_measured;
+      contact::StressField  reference;
+      std::string           reference_name;
+      for (const std::string evaluator_name : {"direct", "fft", "mlmi"})
+        for (const int threads : options.threads)
+          {
+            Row row;
+            row.cells     = cells;
+            row.layers    = layers;
+            row.threads   = threads;
+            row.evaluator = evaluator_name;
+            omp_set_num_threads(threads);
+            if (evaluator_name == "direct")
               {
-                Row row;
-                row.cells     = cells;
-                row.layers    = layers;
-                row.threads   = threads;
-                row.evaluator = evaluator_name;
-                omp_set_num_threads(threads);
-                if (evaluator_name == "direct")
+                const double predicted = direct_rate.count(threads) ? direct_rate[threads] * work : 0.0;
+                if (predicted > options.direct_time_limit)
                   {
-                    const double predicted = direct_rate.count(threads) ? direct_rate[threads] * work : 0.0;
-                    if (predicted > options.direct_time_limit)
-                      {
-                        row.seconds = direct_seconds[threads] = predicted;
-                        direct_measured[threads]              = false;
-                        print_row(row);
-                        rows.push_back(row);
-                        continue;
-                      }
+                    row.seconds = direct_seconds[threads] = predicted;
+                    direct_measured[threads]              = false;
+                    print_row(row);
+                    rows.push_back(row);
+                    continue;
                   }
-                contact::StressEvaluatorSettings settings;
-                settings.method       = evaluator_name;
-                const double rss_before = resident_megabytes();
-                auto         start      = Clock::now();
-                const auto   evaluator  = contact::make_subsurface_stress(c.grid, c.depths, c.poisson_ratio, settings);
-                row.setup_seconds = std::chrono::duration<double>(Clock::now() - start).count();
-                contact::StressField stress;
-                row.seconds  = time_evaluation(*evaluator, c, stress, evaluator_name == "direct");
-                row.measured = true;
-                row.memory_megabytes = resident_megabytes() - rss_before;
-                if (evaluator_name == "direct")
-                  {
-                    direct_seconds[threads]  = row.seconds;
-                    direct_measured[threads] = true;
-                    direct_rate[threads]     = row.seconds / work;
-                  }
-                // The reference is direct summation where it ran; elsewhere
-                // DC-FFT, which matches it to round-off wherever both ran.
-                if (reference_name.empty() && (evaluator_name == "direct" || evaluator_name == "fft"))
-                  {
-                    reference      = stress;
-                    reference_name = evaluator_name;
-                  }
-                else
-                  row.error = max_difference(stress, reference) / c.peak_pressure;
-                row.reference       = reference_name;
-                row.direct_seconds  = direct_seconds[threads];
-                row.direct_measured = direct_measured[threads];
-                print_row(row);
-                rows.push_back(row);
               }
+            const contact::StressField stress = measure(row, c);
+            if (evaluator_name == "direct")
+              {
+                direct_seconds[threads]  = row.seconds;
+                direct_measured[threads] = true;
+                direct_rate[threads]     = row.seconds / work;
+              }
+            // The reference is direct summation where it ran; elsewhere
+            // DC-FFT, which matches it to round-off wherever both ran.
+            if (reference_name.empty() && (evaluator_name == "direct" || evaluator_name == "fft"))
+              {
+                reference      = stress;
+                reference_name = evaluator_name;
+              }
+            else
+              row.error = max_difference(stress, reference) / c.peak_pressure;
+            row.reference       = reference_name;
+            row.direct_seconds  = direct_seconds[threads];
+            row.direct_measured = direct_measured[threads];
+            print_row(row);
+            rows.push_back(row);
+          }
+    }
+
+    /// Parallel speed-up of each evaluator on the largest case.
+    void print_speed_ups(const std::vector<Row> &rows, const StressBenchmarkOptions &options)
+    {
+      const int largest = options.sizes.back(), deepest = options.layers.back();
+      for (const std::string evaluator_name : {"direct", "fft", "mlmi"})
+        {
+          double one = 0, many = 0;
+          int    most = 1;
+          for (const auto &r : rows)
+            if (r.measured && r.evaluator == evaluator_name && r.layers == deepest)
+              {
+                if (r.cells != largest && evaluator_name != "direct")
+                  continue;
+                if (r.threads == 1)
+                  one = r.seconds;
+                else if (r.threads >= most)
+                  most = r.threads, many = r.seconds;
+              }
+          if (one > 0 && many > 0)
+            std::cout << evaluator_name << ": speed-up with " << most << " threads " << std::setprecision(3)
+                      << one / many << "\n";
         }
-    omp_set_num_threads(default_threads);
+    }
 
-    // Parallel speed-up of each evaluator on the largest case.
-    std::cout << "\n";
-    const int largest = options.sizes.back(), deepest = options.layers.back();
-    for (const std::string evaluator_name : {"direct", "fft", "mlmi"})
-      {
-        double one = 0, many = 0;
-        int    most = 1;
-        for (const auto &r : rows)
-          if (r.measured && r.evaluator == evaluator_name && r.layers == deepest)
-            {
-              if (r.cells != largest && evaluator_name != "direct")
-                continue;
-              if (r.threads == 1)
-                one = r.seconds;
-              else if (r.threads >= most)
-                most = r.threads, many = r.seconds;
-            }
-        if (one > 0 && many > 0)
-          std::cout << evaluator_name << ": speed-up with " << most << " threads " << std::setprecision(3)
-                    << one / many << "\n";
-      }
-    std::cout << "peak resident memory of this process: " << std::fixed << std::setprecision(0)
-              << peak_resident_megabytes() << " MB\n" << std::defaultfloat;
-
-    const std::string csv = (std::filesystem::path(options.output_directory) / "stress_benchmark.csv").string();
+    void write_csv(const std::string &csv, const std::vector<Row> &rows)
     {
       std::ofstream out(csv);
       out << "cells,layers,evaluator,threads,measured,setup_s,time_s,direct_time_s,direct_time_measured,"
@@ -291,6 +294,28 @@ namespace fretsim::app
             << r.setup_seconds << "," << r.seconds << "," << r.direct_seconds << "," << r.direct_measured << ","
             << r.error << "," << r.reference << "," << r.memory_megabytes << "\n";
     }
+  } // namespace
+
+  std::vector<std::string> run_stress_benchmark(const StressBenchmarkOptions &options)
+  {
+    check_options(options);
+    std::filesystem::create_directories(options.output_directory);
+    const int default_threads = omp_get_max_threads();
+    print_header();
+    std::vector<Row>      rows;
+    std::map<int, double> direct_rate;
+    for (const int cells : options.sizes)
+      for (const int layers : options.layers)
+        measure_case(cells, layers, options, direct_rate, rows);
+    omp_set_num_threads(default_threads);
+
+    std::cout << "\n";
+    print_speed_ups(rows, options);
+    std::cout << "peak resident memory of this process: " << std::fixed << std::setprecision(0)
+              << peak_resident_megabytes() << " MB\n" << std::defaultfloat;
+
+    const std::string csv = (std::filesystem::path(options.output_directory) / "stress_benchmark.csv").string();
+    write_csv(csv, rows);
     std::vector<std::string> files{csv};
     if (options.plots)
       for (const auto &figure : scenes::run_plot_script("plot_stress_benchmark.py", {csv}))

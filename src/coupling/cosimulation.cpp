@@ -421,6 +421,186 @@ namespace fretsim::coupling
         throw std::runtime_error(std::string("co-simulation: ") + call + " failed (" +
                                  ARKStepGetReturnFlagName(flag) + ")" + (detail.empty() ? "" : ": " + detail));
     }
+
+    /// ARKODE's implicit stepper on y = [q, q̇] from y = 0, with the settings'
+    /// tolerances and Newton iteration and the Schur-complement LU above.
+    void create_integrator(Sundials &sun, BearingCosimulation::Impl &d)
+    {
+      const std::size_t n = d.n;
+      const auto       &s = d.settings;
+      check(SUNContext_Create(nullptr, &sun.context), "SUNContext_Create");
+      sun.state     = N_VNew_Serial(static_cast<sunindextype>(2 * n), sun.context);
+      sun.tolerance = N_VNew_Serial(static_cast<sunindextype>(2 * n), sun.context);
+      double *y     = N_VGetArrayPointer(sun.state);
+      std::fill(y, y + 2 * n, 0.0);
+      std::copy(d.absolute_tolerance.begin(), d.absolute_tolerance.end(), N_VGetArrayPointer(sun.tolerance));
+      sun.arkode = ARKStepCreate(nullptr, arkode_rhs, 0.0, sun.state, sun.context);
+      if (sun.arkode == nullptr)
+        throw std::runtime_error("co-simulation: ARKStepCreate failed");
+      check(ARKStepSetUserData(sun.arkode, &d), "ARKStepSetUserData");
+      check(ARKStepSetErrHandlerFn(sun.arkode, arkode_error, &d), "ARKStepSetErrHandlerFn");
+      check(ARKStepSVtolerances(sun.arkode, s.integrator.relative_tolerance, sun.tolerance), "ARKStepSVtolerances");
+      sun.matrix = SUNDenseMatrix(static_cast<sunindextype>(2 * n), static_cast<sunindextype>(2 * n), sun.context);
+      sun.solver = make_eigen_lu(sun.context);
+      check(ARKStepSetLinearSolver(sun.arkode, sun.solver, sun.matrix), "ARKStepSetLinearSolver");
+      check(ARKStepSetJacFn(sun.arkode, arkode_jacobian), "ARKStepSetJacFn");
+      check(ARKStepSetOrder(sun.arkode, s.integrator.order), "ARKStepSetOrder");
+      check(ARKStepSetNonlinConvCoef(sun.arkode, s.integrator.newton_tolerance), "ARKStepSetNonlinConvCoef");
+      check(ARKStepSetJacEvalFrequency(sun.arkode, s.integrator.jacobian_interval), "ARKStepSetJacEvalFrequency");
+      check(ARKStepSetLSetupFrequency(sun.arkode, static_cast<int>(s.integrator.jacobian_interval)),
+            "ARKStepSetLSetupFrequency");
+
+      if (s.integrator.maximum_step > 0.0)
+        check(ARKStepSetMaxStep(sun.arkode, s.integrator.maximum_step), "ARKStepSetMaxStep");
+      if (s.integrator.initial_step > 0.0)
+        check(ARKStepSetInitStep(sun.arkode, s.integrator.initial_step), "ARKStepSetInitStep");
+    }
+
+    /// The run's state at time t, y = [q, q̇] (the balls' forces evaluated
+    /// again for their loads).
+    Snapshot take_snapshot(BearingCosimulation::Impl &d, double t, const double *y)
+    {
+      const std::size_t               n = d.n;
+      Snapshot                      snap;
+      snap.time               = t;
+      snap.pressure           = &d.interface.pressure();
+      snap.shear_x            = &d.interface.shear_x();
+      snap.shear_y            = &d.interface.shear_y();
+      snap.effective_friction = d.interface.effective_friction();
+      snap.contact_fraction   = d.interface.contact_fraction();
+      snap.slip_fraction      = d.interface.slip_fraction();
+      d.interface.resultant(snap.interface_force_x, snap.interface_force_y);
+      snap.q.assign(y, y + n);
+      snap.ball_angles = d.ball_angles(t);
+      double e[2], e_rate[2];
+      d.inner_ring(t, e, e_rate);
+      std::vector<double> scratch(n, 0.0);
+      d.balls.add_forces(snap.ball_angles, d.cage, e, e_rate, y, y + n, {scratch.data(), nullptr, nullptr});
+      snap.ball_loads = d.balls.loads();
+      for (std::size_t j = 0; j < snap.ball_loads.size(); ++j)
+        {
+          snap.ball_force_x += snap.ball_loads[j] * std::cos(snap.ball_angles[j]);
+          snap.ball_force_y += snap.ball_loads[j] * std::sin(snap.ball_angles[j]);
+        }
+      snap.inner_displacement_y = e[1];
+      return snap;
+    }
+
+    /// The integrator's counters, read however the run ends.
+    struct Counters
+    {
+      void *arkode;
+      IntegratorStatistics &stats;
+      const InterfaceContact &interface;
+      ~Counters()
+      {
+        if (const auto *local = interface.local_compliance())
+          stats.local_compliance = local->statistics();
+        long nfe = 0, nfi = 0;
+        ARKStepGetNumSteps(arkode, &stats.steps);
+        ARKStepGetNumRhsEvals(arkode, &nfe, &nfi);
+        stats.rhs_evaluations = nfi;
+        ARKStepGetNumNonlinSolvIters(arkode, &stats.newton_iterations);
+        ARKStepGetNumNonlinSolvConvFails(arkode, &stats.newton_failures);
+        ARKStepGetNumErrTestFails(arkode, &stats.error_test_failures);
+        ARKStepGetNumJacEvals(arkode, &stats.jacobian_evaluations);
+        ARKStepGetNumLinSolvSetups(arkode, &stats.linear_setups);
+        ARKStepGetLastStep(arkode, &stats.last_step);
+      }
+    };
+
+    /// How the Newton iteration of a stage starts. The settings' start (a
+    /// dense-output guess, many iterations) is the fast one, but on a stiff
+    /// case it can settle a stage where the error test then rejects every
+    /// step down to ARKODE's smallest (a housing 10⁴ times stiffer than steel
+    /// did). Such a step is retried from the last accepted state with
+    /// ARKODE's own start, the last solution and 3 iterations, for the rest
+    /// of that output interval.
+    struct NewtonStart
+    {
+      StagePredictor predictor;
+      int            iterations, failures;
+
+      bool operator!=(const NewtonStart &other) const
+      {
+        return predictor != other.predictor || iterations != other.iterations || failures != other.failures;
+      }
+    };
+
+    struct NewtonStarts
+    {
+      NewtonStart settings, arkode;
+      bool        can_fall_back() const { return settings != arkode; }
+    };
+
+    NewtonStarts newton_starts(const IntegratorSettings &integrator)
+    {
+      return {{integrator.predictor, integrator.maximum_newton_iterations, integrator.maximum_newton_failures},
+              {StagePredictor::trivial, 3, 10}}; // ARKODE's own defaults
+    }
+
+    void set_newton_start(void *arkode, const NewtonStart &start)
+    {
+      check(ARKStepSetPredictorMethod(arkode, static_cast<int>(start.predictor)), "ARKStepSetPredictorMethod");
+      check(ARKStepSetMaxNonlinIters(arkode, start.iterations), "ARKStepSetMaxNonlinIters");
+      check(ARKStepSetMaxConvFails(arkode, start.failures), "ARKStepSetMaxConvFails");
+    }
+
+    [[noreturn]] void throw_integrator_failure(double t, const std::string &why, const std::string &detail)
+    {
+      std::ostringstream message;
+      message << "the integrator failed at t = " << t << " s (" << why << ")" << detail
+              << ". Try a smaller Integrator/Maximum step, a looser Integrator/Relative tolerance, or "
+                 "a softer Interface/Normal stiffness.";
+      throw std::runtime_error(message.str());
+    }
+
+    /// Steps from t to t_out one ARKODE step at a time, each accepted step
+    /// followed by the paper's bristle update; falls back to ARKODE's Newton
+    /// start for the rest of the interval on a failed step.
+    void integrate_interval(Sundials &sun, BearingCosimulation::Impl &d, const NewtonStarts &starts, double t_out,
+                            double &t)
+    {
+      const long maximum_steps = d.settings.integrator.maximum_steps;
+      double    *y             = N_VGetArrayPointer(sun.state);
+      check(ARKStepSetStopTime(sun.arkode, t_out), "ARKStepSetStopTime");
+      bool fallen_back       = false;
+      long steps_in_interval = 0;
+      while (t < t_out * (1.0 - 1e-12))
+        {
+          // ARKODE's own step limit counts per call, and each call here is one step.
+          if (++steps_in_interval > maximum_steps)
+            {
+              std::ostringstream why;
+              why << "more than " << maximum_steps << " steps in one output interval; smallest step "
+                  << d.stats.smallest_step << " s";
+              throw_integrator_failure(t, why.str(), "");
+            }
+          const auto   start        = Clock::now();
+          const double contact_time = d.stats.contact_seconds;
+          const int    flag         = ARKStepEvolve(sun.arkode, t_out, sun.state, &t, ARK_ONE_STEP);
+          d.stats.integrator_seconds += seconds_since(start) - (d.stats.contact_seconds - contact_time);
+          if ((flag == ARK_ERR_FAILURE || flag == ARK_CONV_FAILURE) && starts.can_fall_back() && !fallen_back)
+            {
+              set_newton_start(sun.arkode, starts.arkode);
+              fallen_back = true;
+              ++d.stats.fallbacks;
+              continue;
+            }
+          if (flag < 0)
+            throw_integrator_failure(t, ARKStepGetReturnFlagName(flag),
+                                     d.last_error.empty() ? "" : ": " + d.last_error);
+          double step = 0.0;
+          ARKStepGetLastStep(sun.arkode, &step);
+          d.stats.smallest_step = std::min(d.stats.smallest_step, step);
+          d.stats.largest_step  = std::max(d.stats.largest_step, step);
+          const auto accept_start = Clock::now();
+          d.accept(t, y, y + d.n); // the paper's bristle update after the step
+          d.stats.contact_seconds += seconds_since(accept_start);
+        }
+      if (fallen_back)
+        set_newton_start(sun.arkode, starts.settings);
+    }
   } // namespace
 
   BearingCosimulation::BearingCosimulation(const ReducedRing &ring, const CosimulationSettings &s)
@@ -450,164 +630,26 @@ namespace fretsim::coupling
 
   bool BearingCosimulation::run(const std::function<bool(const Snapshot &)> &observe)
   {
-    Impl             &d = *impl;
-    const std::size_t n = d.n;
-    const auto       &s = d.settings;
-    Sundials          sun;
-    check(SUNContext_Create(nullptr, &sun.context), "SUNContext_Create");
-    sun.state     = N_VNew_Serial(static_cast<sunindextype>(2 * n), sun.context);
-    sun.tolerance = N_VNew_Serial(static_cast<sunindextype>(2 * n), sun.context);
-    double *y     = N_VGetArrayPointer(sun.state);
-    std::fill(y, y + 2 * n, 0.0);
-    std::copy(d.absolute_tolerance.begin(), d.absolute_tolerance.end(), N_VGetArrayPointer(sun.tolerance));
-    sun.arkode = ARKStepCreate(nullptr, arkode_rhs, 0.0, sun.state, sun.context);
-    if (sun.arkode == nullptr)
-      throw std::runtime_error("co-simulation: ARKStepCreate failed");
-    check(ARKStepSetUserData(sun.arkode, impl.get()), "ARKStepSetUserData");
-    check(ARKStepSetErrHandlerFn(sun.arkode, arkode_error, impl.get()), "ARKStepSetErrHandlerFn");
-    check(ARKStepSVtolerances(sun.arkode, s.integrator.relative_tolerance, sun.tolerance), "ARKStepSVtolerances");
-    sun.matrix = SUNDenseMatrix(static_cast<sunindextype>(2 * n), static_cast<sunindextype>(2 * n), sun.context);
-    sun.solver = make_eigen_lu(sun.context);
-    check(ARKStepSetLinearSolver(sun.arkode, sun.solver, sun.matrix), "ARKStepSetLinearSolver");
-    check(ARKStepSetJacFn(sun.arkode, arkode_jacobian), "ARKStepSetJacFn");
-    check(ARKStepSetOrder(sun.arkode, s.integrator.order), "ARKStepSetOrder");
-    check(ARKStepSetNonlinConvCoef(sun.arkode, s.integrator.newton_tolerance), "ARKStepSetNonlinConvCoef");
-    check(ARKStepSetJacEvalFrequency(sun.arkode, s.integrator.jacobian_interval), "ARKStepSetJacEvalFrequency");
-    check(ARKStepSetLSetupFrequency(sun.arkode, static_cast<int>(s.integrator.jacobian_interval)),
-          "ARKStepSetLSetupFrequency");
+    Impl       &d = *impl;
+    const auto &s = d.settings;
+    Sundials    sun;
+    create_integrator(sun, d);
+    const double *y = N_VGetArrayPointer(sun.state);
+    Counters      counters{sun.arkode, d.stats, d.interface};
 
-    if (s.integrator.maximum_step > 0.0)
-      check(ARKStepSetMaxStep(sun.arkode, s.integrator.maximum_step), "ARKStepSetMaxStep");
-    if (s.integrator.initial_step > 0.0)
-      check(ARKStepSetInitStep(sun.arkode, s.integrator.initial_step), "ARKStepSetInitStep");
-
-    const auto emit = [&](double t) {
-      Snapshot snap;
-      snap.time               = t;
-      snap.pressure           = &d.interface.pressure();
-      snap.shear_x            = &d.interface.shear_x();
-      snap.shear_y            = &d.interface.shear_y();
-      snap.effective_friction = d.interface.effective_friction();
-      snap.contact_fraction   = d.interface.contact_fraction();
-      snap.slip_fraction      = d.interface.slip_fraction();
-      d.interface.resultant(snap.interface_force_x, snap.interface_force_y);
-      snap.q.assign(y, y + n);
-      snap.ball_angles = d.ball_angles(t);
-      double e[2], e_rate[2];
-      d.inner_ring(t, e, e_rate);
-      std::vector<double> scratch(n, 0.0);
-      d.balls.add_forces(snap.ball_angles, d.cage, e, e_rate, y, y + n, {scratch.data(), nullptr, nullptr});
-      snap.ball_loads = d.balls.loads();
-      for (std::size_t j = 0; j < snap.ball_loads.size(); ++j)
-        {
-          snap.ball_force_x += snap.ball_loads[j] * std::cos(snap.ball_angles[j]);
-          snap.ball_force_y += snap.ball_loads[j] * std::sin(snap.ball_angles[j]);
-        }
-      snap.inner_displacement_y = e[1];
-      return observe(snap);
-    };
-
-    // The integrator's counters, read however the run ends.
-    struct Counters
-    {
-      void *arkode;
-      IntegratorStatistics &stats;
-      const InterfaceContact &interface;
-      ~Counters()
-      {
-        if (const auto *local = interface.local_compliance())
-          stats.local_compliance = local->statistics();
-        long nfe = 0, nfi = 0;
-        ARKStepGetNumSteps(arkode, &stats.steps);
-        ARKStepGetNumRhsEvals(arkode, &nfe, &nfi);
-        stats.rhs_evaluations = nfi;
-        ARKStepGetNumNonlinSolvIters(arkode, &stats.newton_iterations);
-        ARKStepGetNumNonlinSolvConvFails(arkode, &stats.newton_failures);
-        ARKStepGetNumErrTestFails(arkode, &stats.error_test_failures);
-        ARKStepGetNumJacEvals(arkode, &stats.jacobian_evaluations);
-        ARKStepGetNumLinSolvSetups(arkode, &stats.linear_setups);
-        ARKStepGetLastStep(arkode, &stats.last_step);
-      }
-    } counters{sun.arkode, d.stats, d.interface};
-
-    d.accept(0.0, y, y + n);
-    if (!emit(0.0))
+    d.accept(0.0, y, y + d.n);
+    if (!observe(take_snapshot(d, 0.0, y)))
       return false;
     const long   outputs = std::lround(s.duration / s.output_interval);
     double       t       = 0.0;
     d.stats.smallest_step = s.duration;
-    // The settings' Newton start (a dense-output guess, many iterations) is
-    // the fast one, but on a stiff case it can settle a stage where the
-    // error test then rejects every step down to ARKODE's smallest (a
-    // housing 10⁴ times stiffer than steel did). Such a step is retried from
-    // the last accepted state with ARKODE's own start, the last solution
-    // and 3 iterations, for the rest of that output interval.
-    struct NewtonStart
-    {
-      StagePredictor predictor;
-      int            iterations, failures;
-    };
-    const NewtonStart settings_start{s.integrator.predictor, s.integrator.maximum_newton_iterations,
-                                     s.integrator.maximum_newton_failures};
-    const NewtonStart arkode_start{StagePredictor::trivial, 3, 10}; // ARKODE's own defaults
-    const auto        newton_start = [&](const NewtonStart &start) {
-      check(ARKStepSetPredictorMethod(sun.arkode, static_cast<int>(start.predictor)), "ARKStepSetPredictorMethod");
-      check(ARKStepSetMaxNonlinIters(sun.arkode, start.iterations), "ARKStepSetMaxNonlinIters");
-      check(ARKStepSetMaxConvFails(sun.arkode, start.failures), "ARKStepSetMaxConvFails");
-    };
-    newton_start(settings_start);
-    const bool can_fall_back = settings_start.predictor != arkode_start.predictor ||
-                               settings_start.iterations != arkode_start.iterations ||
-                               settings_start.failures != arkode_start.failures;
+    const NewtonStarts starts = newton_starts(s.integrator);
+    set_newton_start(sun.arkode, starts.settings);
     for (long k = 1; k <= outputs; ++k)
       {
         const double t_out = k * s.output_interval;
-        check(ARKStepSetStopTime(sun.arkode, t_out), "ARKStepSetStopTime");
-        bool fallen_back       = false;
-        long steps_in_interval = 0;
-        while (t < t_out * (1.0 - 1e-12))
-          {
-            // ARKODE's own step limit counts per call, and each call here is one step.
-            if (++steps_in_interval > s.integrator.maximum_steps)
-              {
-                std::ostringstream message;
-                message << "the integrator failed at t = " << t << " s (more than " << s.integrator.maximum_steps
-                        << " steps in one output interval; smallest step " << d.stats.smallest_step
-                        << " s). Try a smaller Integrator/Maximum step, a looser Integrator/Relative tolerance, or "
-                           "a softer Interface/Normal stiffness.";
-                throw std::runtime_error(message.str());
-              }
-            const auto   start        = Clock::now();
-            const double contact_time = d.stats.contact_seconds;
-            const int    flag         = ARKStepEvolve(sun.arkode, t_out, sun.state, &t, ARK_ONE_STEP);
-            d.stats.integrator_seconds += seconds_since(start) - (d.stats.contact_seconds - contact_time);
-            if ((flag == ARK_ERR_FAILURE || flag == ARK_CONV_FAILURE) && can_fall_back && !fallen_back)
-              {
-                newton_start(arkode_start);
-                fallen_back = true;
-                ++d.stats.fallbacks;
-                continue;
-              }
-            if (flag < 0)
-              {
-                std::ostringstream message;
-                message << "the integrator failed at t = " << t << " s (" << ARKStepGetReturnFlagName(flag) << ")"
-                        << (d.last_error.empty() ? "" : ": " + d.last_error)
-                        << ". Try a smaller Integrator/Maximum step, a looser Integrator/Relative tolerance, or "
-                           "a softer Interface/Normal stiffness.";
-                throw std::runtime_error(message.str());
-              }
-            double step = 0.0;
-            ARKStepGetLastStep(sun.arkode, &step);
-            d.stats.smallest_step = std::min(d.stats.smallest_step, step);
-            d.stats.largest_step  = std::max(d.stats.largest_step, step);
-            const auto accept_start = Clock::now();
-            d.accept(t, y, y + n); // the paper's bristle update after the step
-            d.stats.contact_seconds += seconds_since(accept_start);
-          }
-        if (fallen_back)
-          newton_start(settings_start);
-        if (!emit(t_out))
+        integrate_interval(sun, d, starts, t_out, t);
+        if (!observe(take_snapshot(d, t_out, y)))
           return false;
       }
     return true;

@@ -40,6 +40,12 @@ namespace fretsim::coupling
     std::vector<unsigned char> last_known; ///< per grid cell: in last_loaded
     std::size_t              last_columns = 0;
 
+    /// Whether the last sensitivity serves for `loaded` (then in `result`);
+    /// if not, its store is ready for `columns` columns.
+    bool reuse_sensitivity(const std::vector<std::size_t> &loaded, const double *rhs, std::size_t columns,
+                           std::vector<double> &result);
+    struct SensitivityColumns;
+
     Impl(const contact::SurfaceGrid &g, double modulus, double layer_stiffness, bool periodic_x,
          double cg_tolerance, const std::vector<double> &structural, const HalfSpaceCompletion &completion)
       : grid(g)
@@ -380,40 +386,161 @@ namespace fretsim::coupling
                              std::to_string(max_iterations) + " conjugate gradient iterations");
   }
 
+  bool LocalCompliance::Impl::reuse_sensitivity(const std::vector<std::size_t> &loaded, const double *rhs,
+                                                std::size_t columns, std::vector<double> &result)
+  {
+    const std::size_t m = loaded.size();
+    if (last_columns != columns)
+      {
+        last_sensitivity.assign(grid.size() * columns, 0.0);
+        last_known.assign(grid.size(), 0);
+        last_columns = columns;
+        last_loaded.clear();
+        return false;
+      }
+    // Newton's matrix needs no more than this: while the loaded set differs
+    // from the last computed one in at most 2 % of its cells, the last
+    // sensitivity serves (a cell new to it starts as a lone cell), as ARKODE
+    // itself keeps a Jacobian over many steps.
+    std::size_t added = 0;
+    for (const std::size_t c : loaded)
+      added += !last_known[c];
+    const std::size_t dropped = last_loaded.size() - (m - added);
+    const std::size_t differ  = added + dropped;
+    if (last_loaded.empty() || differ > m / 50)
+      return false;
+    for (std::size_t a = 0; a < m; ++a)
+      for (std::size_t j = 0; j < columns; ++j)
+        result[a * columns + j] = last_known[loaded[a]] ? last_sensitivity[loaded[a] * columns + j]
+                                                        : rhs[a * columns + j] / (self + layer_compliance);
+    return true;
+  }
+
+  /// One thread's conjugate gradients for columns of the pressure
+  /// sensitivity, on its own work arrays.
+  struct LocalCompliance::Impl::SensitivityColumns
+  {
+    Impl                           &d;
+    const std::vector<std::size_t> &loaded;
+    const double                   *rhs;
+    std::size_t                     columns, m;
+    std::vector<double>             x, r, s, as, z;
+    contact::Field                  full, response;
+    std::size_t                     convolutions = 0;
+
+    SensitivityColumns(Impl &impl, const std::vector<std::size_t> &loaded_cells, const double *right_hand_sides,
+                       std::size_t column_count)
+      : d(impl)
+      , loaded(loaded_cells)
+      , rhs(right_hand_sides)
+      , columns(column_count)
+      , m(loaded_cells.size())
+      , x(m)
+      , r(m)
+      , s(m)
+      , as(m)
+      , z(m)
+      , full(impl.grid.size(), 0.0)
+      , response(impl.grid.size(), 0.0)
+    {}
+
+    /// out = P_A M⁻¹ P_A in (Impl::precondition, on this thread's arrays).
+    void precondition(const std::vector<double> &in, std::vector<double> &out)
+    {
+      if (!d.preconditioner)
+        {
+          out = in;
+          return;
+        }
+      for (std::size_t a = 0; a < m; ++a)
+        full[loaded[a]] = in[a];
+      ++convolutions;
+      d.preconditioner->apply(full, response);
+      for (std::size_t a = 0; a < m; ++a)
+        out[a] = response[loaded[a]];
+    }
+
+    /// out = (C_AA + I/k_n) in.
+    void apply(const std::vector<double> &in, std::vector<double> &out)
+    {
+      for (std::size_t a = 0; a < m; ++a)
+        full[loaded[a]] = in[a];
+      ++convolutions;
+      d.compliance.apply(full, response);
+      for (std::size_t a = 0; a < m; ++a)
+        out[a] = response[loaded[a]] + d.layer_compliance * in[a];
+    }
+
+    double dot(const std::vector<double> &u, const std::vector<double> &v) const
+    {
+      double sum = 0.0;
+      for (std::size_t a = 0; a < m; ++a)
+        sum += u[a] * v[a];
+      return sum;
+    }
+
+    /// Column j into `result` and the last sensitivity; false if it did not
+    /// converge.
+    bool solve(std::size_t j, std::vector<double> &result)
+    {
+      double b_norm = 0.0;
+      for (std::size_t a = 0; a < m; ++a)
+        {
+          r[a]   = rhs[a * columns + j];
+          b_norm = std::max(b_norm, std::abs(r[a]));
+        }
+      if (b_norm == 0.0)
+        return true;
+      // Conjugate gradients on the symmetric positive definite
+      // C_AA + I/k_n, from the last solution (the loaded set and the
+      // operator change little between Jacobians).
+      for (std::size_t a = 0; a < m; ++a)
+        x[a] = d.last_sensitivity[loaded[a] * columns + j];
+      apply(x, as);
+      for (std::size_t a = 0; a < m; ++a)
+        r[a] -= as[a];
+      precondition(r, z);
+      s         = z;
+      double rr = dot(r, z);
+      int    it = 0;
+      for (; it < 1000; ++it)
+        {
+          double worst = 0.0;
+          for (std::size_t a = 0; a < m; ++a)
+            worst = std::max(worst, std::abs(r[a]));
+          if (worst <= d.sensitivity_tolerance * b_norm)
+            break;
+          apply(s, as);
+          const double alpha = rr / dot(s, as);
+          for (std::size_t a = 0; a < m; ++a)
+            {
+              x[a] += alpha * s[a];
+              r[a] -= alpha * as[a];
+            }
+          precondition(r, z);
+          const double rr_next = dot(r, z);
+          for (std::size_t a = 0; a < m; ++a)
+            s[a] = z[a] + rr_next / rr * s[a];
+          rr = rr_next;
+        }
+      if (it == 1000)
+        return false;
+      for (std::size_t a = 0; a < m; ++a)
+        result[a * columns + j] = d.last_sensitivity[loaded[a] * columns + j] = x[a];
+      return true;
+    }
+  };
+
   void LocalCompliance::pressure_sensitivity(const std::vector<std::size_t> &loaded, const double *rhs,
                                              std::size_t columns, std::vector<double> &result)
   {
-    auto             &d = *impl;
-    const std::size_t m = loaded.size();
+    auto &d = *impl;
     ++d.statistics.sensitivities;
-    result.assign(m * columns, 0.0);
-    if (d.last_columns != columns)
+    result.assign(loaded.size() * columns, 0.0);
+    if (d.reuse_sensitivity(loaded, rhs, columns, result))
       {
-        d.last_sensitivity.assign(d.grid.size() * columns, 0.0);
-        d.last_known.assign(d.grid.size(), 0);
-        d.last_columns = columns;
-        d.last_loaded.clear();
-      }
-    else
-      { // Newton's matrix needs no more than this: while the loaded set
-        // differs from the last computed one in at most 2 % of its cells,
-        // the last sensitivity serves (a cell new to it starts as a lone
-        // cell), as ARKODE itself keeps a Jacobian over many steps.
-        std::size_t added = 0;
-        for (const std::size_t c : loaded)
-          added += !d.last_known[c];
-        const std::size_t dropped = d.last_loaded.size() - (m - added);
-        const std::size_t differ  = added + dropped;
-        if (!d.last_loaded.empty() && differ <= m / 50)
-          {
-            for (std::size_t a = 0; a < m; ++a)
-              for (std::size_t j = 0; j < columns; ++j)
-                result[a * columns + j] = d.last_known[loaded[a]]
-                                            ? d.last_sensitivity[loaded[a] * columns + j]
-                                            : rhs[a * columns + j] / (d.self + d.layer_compliance);
-            ++d.statistics.sensitivity_reuses;
-            return;
-          }
+        ++d.statistics.sensitivity_reuses;
+        return;
       }
     // The columns are independent solves: shared out over the threads
     // (SurfaceConvolution::apply is safe to call concurrently), each with
@@ -423,87 +550,12 @@ namespace fretsim::coupling
     bool        diverged     = false;
 #pragma omp parallel reduction(+ : convolutions) reduction(|| : diverged)
     {
-      std::vector<double> x(m), r(m), s(m), as(m), z(m);
-      contact::Field      full(d.grid.size(), 0.0), response(d.grid.size(), 0.0);
-      // z = P_A M⁻¹ P_A r (Impl::precondition, on this thread's arrays)
-      const auto precondition = [&](const std::vector<double> &in, std::vector<double> &out) {
-        if (!d.preconditioner)
-          {
-            out = in;
-            return;
-          }
-        for (std::size_t a = 0; a < m; ++a)
-          full[loaded[a]] = in[a];
-        ++convolutions;
-        d.preconditioner->apply(full, response);
-        for (std::size_t a = 0; a < m; ++a)
-          out[a] = response[loaded[a]];
-      };
-      const auto          apply = [&](const std::vector<double> &in, std::vector<double> &out) {
-        for (std::size_t a = 0; a < m; ++a)
-          full[loaded[a]] = in[a];
-        ++convolutions;
-        d.compliance.apply(full, response);
-        for (std::size_t a = 0; a < m; ++a)
-          out[a] = response[loaded[a]] + d.layer_compliance * in[a];
-      };
-      const auto dot = [m](const std::vector<double> &u, const std::vector<double> &v) {
-        double sum = 0.0;
-        for (std::size_t a = 0; a < m; ++a)
-          sum += u[a] * v[a];
-        return sum;
-      };
+      Impl::SensitivityColumns solver(d, loaded, rhs, columns);
 #pragma omp for schedule(dynamic, 1)
       for (std::size_t j = 0; j < columns; ++j)
-        {
-          double b_norm = 0.0;
-          for (std::size_t a = 0; a < m; ++a)
-            {
-              r[a]   = rhs[a * columns + j];
-              b_norm = std::max(b_norm, std::abs(r[a]));
-            }
-          if (b_norm == 0.0 || diverged)
-            continue;
-          // Conjugate gradients on the symmetric positive definite
-          // C_AA + I/k_n, from the last solution (the loaded set and the
-          // operator change little between Jacobians).
-          for (std::size_t a = 0; a < m; ++a)
-            x[a] = d.last_sensitivity[loaded[a] * columns + j];
-          apply(x, as);
-          for (std::size_t a = 0; a < m; ++a)
-            r[a] -= as[a];
-          precondition(r, z);
-          s         = z;
-          double rr = dot(r, z);
-          int    it = 0;
-          for (; it < 1000; ++it)
-            {
-              double worst = 0.0;
-              for (std::size_t a = 0; a < m; ++a)
-                worst = std::max(worst, std::abs(r[a]));
-              if (worst <= d.sensitivity_tolerance * b_norm)
-                break;
-              apply(s, as);
-              const double alpha = rr / dot(s, as);
-              for (std::size_t a = 0; a < m; ++a)
-                {
-                  x[a] += alpha * s[a];
-                  r[a] -= alpha * as[a];
-                }
-              precondition(r, z);
-              const double rr_next = dot(r, z);
-              for (std::size_t a = 0; a < m; ++a)
-                s[a] = z[a] + rr_next / rr * s[a];
-              rr = rr_next;
-            }
-          if (it == 1000)
-            {
-              diverged = true;
-              continue;
-            }
-          for (std::size_t a = 0; a < m; ++a)
-            result[a * columns + j] = d.last_sensitivity[loaded[a] * columns + j] = x[a];
-        }
+        if (!diverged && !solver.solve(j, result))
+          diverged = true;
+      convolutions += solver.convolutions;
     }
     d.statistics.sensitivity_convolutions += convolutions;
     if (diverged)

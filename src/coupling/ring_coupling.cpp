@@ -381,9 +381,17 @@ namespace fretsim::coupling
     /// by_penetration and slip_stiffness of the loaded cells).
     void evaluate(const double *q_data, const double *v_data, const ForceOutput &out)
     {
-      const double k_t = settings.tangential_stiffness, mu = settings.friction_coefficient;
-      const bool   jacobian = out.by_position != nullptr;
-      VectorXd     force    = VectorXd::Zero(n);
+      const bool jacobian = out.by_position != nullptr;
+      set_structural_approach(q_data, v_data);
+      Eigen::Map<VectorXd>(out.force, n) += cell_forces(q_data, jacobian);
+      if (jacobian)
+        add_jacobian(out);
+    }
+
+    /// The structural penetration and its rate at every cell and, with the
+    /// half-space, the layer's pressure on its give.
+    void set_structural_approach(const double *q_data, const double *v_data)
+    {
 #pragma omp parallel for schedule(static)
       for (std::size_t c = 0; c < cells; ++c)
         {
@@ -400,6 +408,13 @@ namespace fretsim::coupling
               structural[c] + ball_residual[c] + settings.normal_damping_time * structural_rate[c];
           local->solve(local_penetration, local_pressure);
         }
+    }
+
+    /// The cells' generalised force at q; sets the trial pressure and
+    /// tractions, and with `jacobian` the loaded cells' derivatives.
+    VectorXd cell_forces(const double *q_data, bool jacobian)
+    {
+      VectorXd force = VectorXd::Zero(n);
 #pragma omp parallel
       {
         VectorXd local_force = VectorXd::Zero(n);
@@ -418,146 +433,183 @@ namespace fretsim::coupling
                 trial_tau_x[c] = trial_tau_y[c] = 0.0;
                 continue;
               }
-            const double ut = dot(row(c, 1), q_data), uz = dot(row(c, 2), q_data);
-            const double ds_x = -(ut - u_t[c]), ds_y = -(uz - u_z[c]);
-            const double mu_p = mu * p;
-            Eigen::Vector2d traction, by_pressure = Eigen::Vector2d::Zero();
-            Eigen::Matrix2d by_slip = Eigen::Matrix2d::Zero();
-            if (committing || consistent)
-              { // the paper's implicit Euler law over the slip so far: the update
-                // after the accepted step, or the step itself (with its derivative)
-                if (jacobian)
-                  {
-                    contact::BristleStepDerivatives derivatives;
-                    const auto next = contact::bristle_step(tau_x[c], tau_y[c], k_t, mu, p, ds_x, ds_y,
-                                                            slipping[c] != 0, derivatives);
-                    traction        = Eigen::Vector2d(next.x, next.y);
-                    by_slip         = Eigen::Map<const Eigen::Matrix<double, 2, 2, Eigen::RowMajor>>(
-                      &derivatives.by_slip[0][0]);
-                    by_pressure = Eigen::Map<const Eigen::Vector2d>(derivatives.by_pressure);
-                  }
-                else
-                  {
-                    const auto next = contact::bristle_step(tau_x[c], tau_y[c], k_t, mu_p, ds_x, ds_y);
-                    traction        = Eigen::Vector2d(next.x, next.y);
-                  }
-              }
-            else if (slipping[c])
-              { // sliding on: the traction keeps its ratio to the pressure (≥ 0.9 μ) and its direction
-                by_pressure = Eigen::Vector2d(tau_x[c], tau_y[c]) / pressure[c];
-                traction    = by_pressure * p;
-              }
-            else
-              { // sticking: the bristle is a linear spring within the step, capped
-                // at the Coulomb limit (so that very stiff bristles cannot push
-                // the in-step traction far beyond what the update will accept)
-                const Eigen::Vector2d trial(tau_x[c] + k_t * ds_x, tau_y[c] + k_t * ds_y);
-                const double          length = trial.norm();
-                if (length <= mu_p)
-                  {
-                    traction = trial;
-                    by_slip  = k_t * Eigen::Matrix2d::Identity();
-                  }
-                else
-                  {
-                    const Eigen::Vector2d unit = trial / length;
-                    traction                   = mu_p * unit;
-                    by_slip     = mu_p * k_t / length * (Eigen::Matrix2d::Identity() - unit * unit.transpose());
-                    by_pressure = mu * unit;
-                  }
-              }
-            trial_tau_x[c] = traction.x();
-            trial_tau_y[c] = traction.y();
-            add_rows(c, cell_area * Eigen::Vector3d(-p, traction.x(), traction.y()), local_force.data());
+            const double   ut = dot(row(c, 1), q_data), uz = dot(row(c, 2), q_data);
+            const BristleStep step = bristle_traction(c, p, -(ut - u_t[c]), -(uz - u_z[c]), jacobian);
+            trial_tau_x[c] = step.traction.x();
+            trial_tau_y[c] = step.traction.y();
+            add_rows(c, cell_area * Eigen::Vector3d(-p, step.traction.x(), step.traction.y()), local_force.data());
             if (!jacobian || p <= 0.0)
               continue;
             // A loaded cell is not damped out (p > 0): the traction depends on
             // the penetration through p (normal, and the bristle through μp),
             // on its rate through c_n = k_n τ_d the same way, and on the slip.
             // (With the half-space, ∂p/∂d0 couples the cells: applied below.)
-            by_penetration[c] = Eigen::Vector3d(-1.0, by_pressure.x(), by_pressure.y()) *
+            by_penetration[c] = Eigen::Vector3d(-1.0, step.by_pressure.x(), step.by_pressure.y()) *
                                 (local ? 1.0 : layer.by_penetration);
             band_share[c]     = layer.band_share;
-            slip_stiffness[c] = by_slip;
+            slip_stiffness[c] = step.by_slip;
             loaded[c]         = 1;
           }
 #pragma omp critical
         force += local_force;
       }
-      Eigen::Map<VectorXd>(out.force, n) += force;
-      if (!jacobian)
-        return;
-      // ∂f/∂q = A Σ_c G_cᵀ D_c G_c over the loaded cells, with
-      // D_c = [∂t/∂d | 0; 0 | -S_c] in (radial, tangential) blocks:
-      //   normal part      N = Σ (G_cᵀ ∂t/∂d) g_r,cᵀ   (one product, m rows),
-      //   tangential part  -Σ G_t,cᵀ S_c G_t,c = -Zᵀ Z with S_c = L Lᵀ, Z the
-      //                    rows Lᵀ G_t,c (a symmetric rank update),
-      // and ∂f/∂q̇ = τ_d (N - N_b), N_b the part of N from the closure band's
-      // c_n g'' ḋ (few cells; the damping acts through p only). A third of
-      // the work of forming G_cᵀ D_c G_c as a full product, twice.
+      return force;
+    }
+
+    /// A cell's tangential traction within the step and its derivatives.
+    struct BristleStep
+    {
+      Eigen::Vector2d traction;
+      Eigen::Vector2d by_pressure = Eigen::Vector2d::Zero(); ///< ∂τ/∂p
+      Eigen::Matrix2d by_slip     = Eigen::Matrix2d::Zero(); ///< ∂τ/∂(slip)
+    };
+
+    /// The bristle of cell c under pressure p after the slip (ds_x, ds_y)
+    /// since the last accepted state.
+    BristleStep bristle_traction(std::size_t c, double p, double ds_x, double ds_y, bool jacobian) const
+    {
+      const double k_t = settings.tangential_stiffness, mu = settings.friction_coefficient;
+      const double mu_p = mu * p;
+      BristleStep  step;
+      if (committing || consistent)
+        { // the paper's implicit Euler law over the slip so far: the update
+          // after the accepted step, or the step itself (with its derivative)
+          if (jacobian)
+            {
+              contact::BristleStepDerivatives derivatives;
+              const auto next = contact::bristle_step(tau_x[c], tau_y[c], k_t, mu, p, ds_x, ds_y, slipping[c] != 0,
+                                                      derivatives);
+              step.traction = Eigen::Vector2d(next.x, next.y);
+              step.by_slip =
+                Eigen::Map<const Eigen::Matrix<double, 2, 2, Eigen::RowMajor>>(&derivatives.by_slip[0][0]);
+              step.by_pressure = Eigen::Map<const Eigen::Vector2d>(derivatives.by_pressure);
+            }
+          else
+            {
+              const auto next = contact::bristle_step(tau_x[c], tau_y[c], k_t, mu_p, ds_x, ds_y);
+              step.traction   = Eigen::Vector2d(next.x, next.y);
+            }
+        }
+      else if (slipping[c])
+        { // sliding on: the traction keeps its ratio to the pressure (≥ 0.9 μ) and its direction
+          step.by_pressure = Eigen::Vector2d(tau_x[c], tau_y[c]) / pressure[c];
+          step.traction    = step.by_pressure * p;
+        }
+      else
+        { // sticking: the bristle is a linear spring within the step, capped
+          // at the Coulomb limit (so that very stiff bristles cannot push
+          // the in-step traction far beyond what the update will accept)
+          const Eigen::Vector2d trial(tau_x[c] + k_t * ds_x, tau_y[c] + k_t * ds_y);
+          const double          length = trial.norm();
+          if (length <= mu_p)
+            {
+              step.traction = trial;
+              step.by_slip  = k_t * Eigen::Matrix2d::Identity();
+            }
+          else
+            {
+              const Eigen::Vector2d unit = trial / length;
+              step.traction              = mu_p * unit;
+              step.by_slip     = mu_p * k_t / length * (Eigen::Matrix2d::Identity() - unit * unit.transpose());
+              step.by_pressure = mu * unit;
+            }
+        }
+      return step;
+    }
+
+    /// The loaded cells' factors of the Jacobian (add_jacobian), one row (or
+    /// two, tangential) per cell.
+    struct JacobianRows
+    {
+      RowMatrix normal, radial, tangential, slipped;
+    };
+
+    JacobianRows jacobian_rows(const std::vector<std::size_t> &active) const
+    {
+      const auto m = static_cast<Eigen::Index>(active.size()), size = static_cast<Eigen::Index>(n);
+      // The implicit Euler law's ∂τ/∂ds is not symmetric: its tangential part
+      // is the general product G_tᵀ (S_c G_t) (`slipped` the latter).
+      JacobianRows rows_of{RowMatrix(m, size), RowMatrix(m, size), RowMatrix(2 * m, size),
+                           RowMatrix(consistent ? 2 * m : 0, size)};
+      RowMatrix    g(3, size); // one cell's rows in double
+      for (Eigen::Index a = 0; a < m; ++a)
+        {
+          const std::size_t c = active[a];
+          g = Eigen::Map<const Eigen::Matrix<float, 3, Eigen::Dynamic, Eigen::RowMajor>>(row(c, 0), 3, size)
+                .cast<double>();
+          rows_of.radial.row(a) = g.row(0);
+          rows_of.normal.row(a) = by_penetration[c].transpose() * g;
+          if (consistent)
+            {
+              rows_of.tangential.middleRows(2 * a, 2) = g.bottomRows(2);
+              rows_of.slipped.middleRows(2 * a, 2)    = slip_stiffness[c] * g.bottomRows(2);
+              continue;
+            }
+          const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> split(slip_stiffness[c]);
+          for (int k = 0; k < 2; ++k)
+            rows_of.tangential.row(2 * a + k) = std::sqrt(std::max(split.eigenvalues()[k], 0.0)) *
+                                                (split.eigenvectors().col(k).transpose() * g.bottomRows(2));
+        }
+      if (local)
+        { // ∂p_A/∂d0_A = (C_AA + I/k_n)⁻¹: the radial rows through it
+          std::vector<double> sensitivity;
+          local->pressure_sensitivity(active, rows_of.radial.data(), n, sensitivity);
+          rows_of.radial = Eigen::Map<const RowMatrix>(sensitivity.data(), m, size);
+        }
+      return rows_of;
+    }
+
+    /// ∂f/∂q = A Σ_c G_cᵀ D_c G_c over the loaded cells, with
+    /// D_c = [∂t/∂d | 0; 0 | -S_c] in (radial, tangential) blocks:
+    ///   normal part      N = Σ (G_cᵀ ∂t/∂d) g_r,cᵀ   (one product, m rows),
+    ///   tangential part  -Σ G_t,cᵀ S_c G_t,c = -Zᵀ Z with S_c = L Lᵀ, Z the
+    ///                    rows Lᵀ G_t,c (a symmetric rank update),
+    /// and ∂f/∂q̇ = τ_d (N - N_b), N_b the part of N from the closure band's
+    /// c_n g'' ḋ (few cells; the damping acts through p only). A third of
+    /// the work of forming G_cᵀ D_c G_c as a full product, twice.
+    void add_jacobian(const ForceOutput &out) const
+    {
       std::vector<std::size_t> active;
       for (std::size_t c = 0; c < cells; ++c)
         if (loaded[c])
           active.push_back(c);
       if (active.empty())
         return; // (and Eigen's product blocking divides by a zero depth)
-      const auto m = static_cast<Eigen::Index>(active.size()), size = static_cast<Eigen::Index>(n);
-      // The implicit Euler law's ∂τ/∂ds is not symmetric: its tangential part
-      // is the general product G_tᵀ (S_c G_t) (`slipped_rows` the latter).
-      RowMatrix normal_rows(m, size), radial_rows(m, size), tangential_rows(2 * m, size);
-      RowMatrix slipped_rows(consistent ? 2 * m : 0, size);
-      RowMatrix g(3, size); // one cell's rows in double
-      for (Eigen::Index a = 0; a < m; ++a)
-        {
-          const std::size_t c = active[a];
-          g = Eigen::Map<const Eigen::Matrix<float, 3, Eigen::Dynamic, Eigen::RowMajor>>(row(c, 0), 3, size)
-                .cast<double>();
-          radial_rows.row(a) = g.row(0);
-          normal_rows.row(a) = by_penetration[c].transpose() * g;
-          if (consistent)
-            {
-              tangential_rows.middleRows(2 * a, 2) = g.bottomRows(2);
-              slipped_rows.middleRows(2 * a, 2)    = slip_stiffness[c] * g.bottomRows(2);
-              continue;
-            }
-          const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> split(slip_stiffness[c]);
-          for (int k = 0; k < 2; ++k)
-            tangential_rows.row(2 * a + k) = std::sqrt(std::max(split.eigenvalues()[k], 0.0)) *
-                                             (split.eigenvectors().col(k).transpose() * g.bottomRows(2));
-        }
-      if (local)
-        { // ∂p_A/∂d0_A = (C_AA + I/k_n)⁻¹: the radial rows through it
-          std::vector<double> sensitivity;
-          local->pressure_sensitivity(active, radial_rows.data(), n, sensitivity);
-          radial_rows = Eigen::Map<const RowMatrix>(sensitivity.data(), m, size);
-        }
-      const Eigen::MatrixXd normal = cell_area * (normal_rows.transpose() * radial_rows);
+      const auto            size    = static_cast<Eigen::Index>(n);
+      const JacobianRows    rows_of = jacobian_rows(active);
+      const Eigen::MatrixXd normal  = cell_area * (rows_of.normal.transpose() * rows_of.radial);
       Eigen::Map<RowMatrix> dq(out.by_position, size, size), dv(out.by_velocity, size, size);
       dq += normal;
       if (consistent)
-        dq.noalias() -= cell_area * (tangential_rows.transpose() * slipped_rows);
+        dq.noalias() -= cell_area * (rows_of.tangential.transpose() * rows_of.slipped);
       else
         {
           Eigen::MatrixXd tangential = Eigen::MatrixXd::Zero(size, size);
-          tangential.selfadjointView<Eigen::Lower>().rankUpdate(tangential_rows.transpose(), -cell_area);
+          tangential.selfadjointView<Eigen::Lower>().rankUpdate(rows_of.tangential.transpose(), -cell_area);
           dq += tangential.selfadjointView<Eigen::Lower>();
         }
       dv += settings.normal_damping_time * normal;
+      subtract_band_damping(active, rows_of, dv);
+    }
+
+    /// dv -= τ_d N_b: the closure band's c_n g'' ḋ is in ∂p/∂d, not in ∂p/∂ḋ.
+    void subtract_band_damping(const std::vector<std::size_t> &active, const JacobianRows &rows_of,
+                               Eigen::Map<RowMatrix> &dv) const
+    {
       std::vector<Eigen::Index> band;
-      for (Eigen::Index a = 0; a < m; ++a)
+      for (Eigen::Index a = 0; a < static_cast<Eigen::Index>(active.size()); ++a)
         if (band_share[active[a]] != 0.0)
           band.push_back(a);
-      if (!band.empty())
+      if (band.empty())
+        return;
+      const auto b = static_cast<Eigen::Index>(band.size()), size = static_cast<Eigen::Index>(n);
+      RowMatrix  band_rows(b, size), band_radial(b, size);
+      for (Eigen::Index k = 0; k < b; ++k)
         {
-          const auto b = static_cast<Eigen::Index>(band.size());
-          RowMatrix  band_rows(b, size), band_radial(b, size);
-          for (Eigen::Index k = 0; k < b; ++k)
-            {
-              band_rows.row(k)   = band_share[active[band[k]]] * normal_rows.row(band[k]);
-              band_radial.row(k) = radial_rows.row(band[k]);
-            }
-          dv -= (settings.normal_damping_time * cell_area) * (band_rows.transpose() * band_radial);
+          band_rows.row(k)   = band_share[active[band[k]]] * rows_of.normal.row(band[k]);
+          band_radial.row(k) = rows_of.radial.row(band[k]);
         }
+      dv -= (settings.normal_damping_time * cell_area) * (band_rows.transpose() * band_radial);
     }
   };
 

@@ -2,7 +2,7 @@
 
 #include <fretsim/models/reduced_statics.h>
 
-#include "app/progress.h"
+#include <fretsim/support/progress.h>
 
 #include <fretsim/fem/parallel_environment.h>
 #include <fretsim/fem/shifted_static_solver.h>
@@ -21,7 +21,7 @@
 #include <ostream>
 #include <sstream>
 
-#include "app/build_info.h"
+#include <fretsim/support/build_info.h>
 
 namespace fretsim::models
 {

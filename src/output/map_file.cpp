@@ -4,9 +4,9 @@
 // dataset per number, and "status", "message", "regime", "parameters"
 // (variable-length strings). Rows are appended and the file flushed after
 // each, as results.h5 does (results_file.cpp: crash safety).
-#include "output/map_file.h"
+#include <fretsim/output/map_file.h>
 
-#include "output/hdf5_handles.h"
+#include "hdf5_handles.h"
 
 #include <cmath>
 #include <filesystem>

@@ -10,9 +10,9 @@
 //
 // Series are chunked by 1024 rows; field snapshots one per chunk, deflated
 // (level 1, with shuffle) since each is written once and whole.
-#include "output/results_file.h"
+#include <fretsim/output/results_file.h>
 
-#include "output/hdf5_handles.h"
+#include "hdf5_handles.h"
 
 #include <hdf5.h>
 

@@ -1,4 +1,4 @@
-#include "output/stress_snapshots.h"
+#include <fretsim/output/stress_snapshots.h>
 
 #include <filesystem>
 #include <fstream>

@@ -1,6 +1,6 @@
 // summary.json: ordered keys, each stored as its JSON text; written through a
 // temporary file and a rename so a reader never sees half a file.
-#include "output/summary.h"
+#include <fretsim/output/summary.h>
 
 #include <cerrno>
 #include <cmath>

@@ -1,11 +1,12 @@
-#include "scenes/bearing_scene.h"
+#include <fretsim/scenes/bearing_scene.h>
 
-#include "app/progress.h"
-#include "app/run_control.h"
-#include "output/results_file.h"
-#include "output/summary.h"
-#include "scenes/figures.h"
-#include "scenes/surface_grid_output.h"
+#include "surface_grid_output.h"
+
+#include <fretsim/support/progress.h>
+#include <fretsim/support/run_control.h>
+#include <fretsim/output/results_file.h>
+#include <fretsim/output/summary.h>
+#include <fretsim/scenes/figures.h>
 
 #include <fretsim/contact/dang_van.h>
 #include <fretsim/contact/material.h>

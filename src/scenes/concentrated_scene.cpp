@@ -1,13 +1,13 @@
-#include "scenes/concentrated_scene.h"
+#include "concentrated_scene.h"
 
-#include "scenes/surface_grid_output.h"
+#include "surface_grid_output.h"
 
-#include "app/build_info.h"
-#include "app/progress.h"
-#include "app/run_control.h"
-#include "output/results_file.h"
-#include "output/summary.h"
-#include "scenes/figures.h"
+#include <fretsim/support/build_info.h>
+#include <fretsim/support/progress.h>
+#include <fretsim/support/run_control.h>
+#include <fretsim/output/results_file.h>
+#include <fretsim/output/summary.h>
+#include <fretsim/scenes/figures.h>
 
 #include <fretsim/contact/bristle.h>
 #include <fretsim/contact/dang_van.h>

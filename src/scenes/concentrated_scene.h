@@ -2,9 +2,9 @@
 // The paper's §4 case: a ball pressed on a flat and shaken tangentially by a
 // few micrometres (docs/theory.md §5 `paper_concentrated`). Contact-only: no mesh,
 // no PETSc, no MPI, no SUNDIALS.
-#include "scenes/scene.h"
+#include <fretsim/scenes/scene.h>
 
-#include "output/summary.h"
+#include <fretsim/output/summary.h>
 
 #include <fretsim/contact/fretting_loop.h>
 #include <fretsim/contact/fretting_run.h>

@@ -1,6 +1,6 @@
-#include "scenes/figures.h"
+#include <fretsim/scenes/figures.h>
 
-#include "app/build_info.h"
+#include <fretsim/support/build_info.h>
 
 #include <cstdio>
 #include <filesystem>

@@ -1,9 +1,9 @@
-#include "scenes/scene.h"
+#include <fretsim/scenes/scene.h>
 
-#include "scenes/bearing_scene.h"
-#include "scenes/concentrated_scene.h"
+#include <fretsim/scenes/bearing_scene.h>
+#include "concentrated_scene.h"
 
-#include "app/run_control.h"
+#include <fretsim/support/run_control.h>
 
 #include <stdexcept>
 #include <string>

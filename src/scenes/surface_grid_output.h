@@ -1,6 +1,6 @@
 #pragma once
 // The results file's /grid of a scene whose fields live on a contact grid.
-#include "output/results_file.h"
+#include <fretsim/output/results_file.h>
 
 #include <fretsim/contact/surface_grid.h>
 

@@ -3,9 +3,9 @@
 // 2, before anything is computed; nothing of the user's is overwritten.
 #include "app/test_files.h"
 
-#include "app/parameters.h"
-#include "app/run_control.h"
-#include "scenes/scene.h"
+#include <fretsim/support/parameters.h>
+#include <fretsim/support/run_control.h>
+#include <fretsim/scenes/scene.h>
 
 #include <gtest/gtest.h>
 

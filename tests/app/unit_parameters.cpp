@@ -2,8 +2,8 @@
 // the file, the parameter and what was expected.
 #include "app/test_files.h"
 
-#include "app/parameters.h"
-#include "scenes/scene.h"
+#include <fretsim/support/parameters.h>
+#include <fretsim/scenes/scene.h>
 
 #include <gtest/gtest.h>
 

@@ -7,7 +7,7 @@
 #include "app/compare_command.h"
 #include "app/test_files.h"
 
-#include "output/results_file.h"
+#include <fretsim/output/results_file.h>
 
 #include <fretsim/contact/convolution.h>
 #include <fretsim/reduction/reduced_model.h>

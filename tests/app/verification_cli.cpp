@@ -3,7 +3,7 @@
 // readable results file.
 #include "app/test_files.h"
 
-#include "output/results_file.h"
+#include <fretsim/output/results_file.h>
 
 #include <gtest/gtest.h>
 

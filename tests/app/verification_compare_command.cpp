@@ -55,7 +55,7 @@
 //     (k_n <= 0 included), and writes nothing.
 #include "app/test_files.h"
 
-#include "output/results_file.h"
+#include <fretsim/output/results_file.h>
 
 #include <gtest/gtest.h>
 

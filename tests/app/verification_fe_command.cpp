@@ -5,7 +5,7 @@
 // `mpiexec -np 2`.
 #include "app/test_files.h"
 
-#include "output/results_file.h"
+#include <fretsim/output/results_file.h>
 
 #include <gtest/gtest.h>
 

@@ -4,10 +4,10 @@
 // uninterrupted one, the bisected D = 1 boundary against the grid's, and bad
 // axes refused with exit code 2 before anything is written.
 #include "app/map_command.h"
-#include "app/parameters.h"
+#include <fretsim/support/parameters.h>
 #include "app/test_files.h"
 
-#include "output/map_file.h"
+#include <fretsim/output/map_file.h>
 
 #include <gtest/gtest.h>
 

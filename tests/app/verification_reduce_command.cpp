@@ -10,7 +10,7 @@
 // exit code 2, one line naming the parameter, and no file.
 #include "app/test_files.h"
 
-#include "output/results_file.h"
+#include <fretsim/output/results_file.h>
 
 #include <gtest/gtest.h>
 

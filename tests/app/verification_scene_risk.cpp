@@ -12,7 +12,7 @@
 // deterministic to ~1e-10) and to the bounds the study gives.
 #include "app/test_files.h"
 
-#include "output/results_file.h"
+#include <fretsim/output/results_file.h>
 
 #include <gtest/gtest.h>
 

@@ -4,7 +4,7 @@
 // (sigma_zz = -p, sigma_xz and sigma_yz equal to the shear traction) at z = 0.
 #include "app/test_files.h"
 
-#include "output/results_file.h"
+#include <fretsim/output/results_file.h>
 
 #include <gtest/gtest.h>
 

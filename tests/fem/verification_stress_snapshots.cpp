@@ -11,7 +11,7 @@
 #include <fretsim/fem/elastic_model.h>
 #include <fretsim/fem/stress_sampler.h>
 
-#include "output/stress_snapshots.h"
+#include <fretsim/output/stress_snapshots.h>
 
 #include <cmath>
 #include <cstdio>

@@ -1,6 +1,6 @@
 // results.h5 writer: layout, units and attributes read back through HDF5, a
 // run killed after a flush, and the XDMF sidecar.
-#include "output/results_file.h"
+#include <fretsim/output/results_file.h>
 
 #include <gtest/gtest.h>
 

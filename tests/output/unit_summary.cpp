@@ -1,5 +1,5 @@
 // summary.json writer: JSON text, number formatting, nesting, atomic write.
-#include "output/summary.h"
+#include <fretsim/output/summary.h>
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // The scenes stand without the command line above them: this test links
 // fretsim_scenes alone, so a scene that calls into src/app's commands or CLI
 // fails to link here.
-#include "scenes/scene.h"
+#include <fretsim/scenes/scene.h>
 
 #include <gtest/gtest.h>
 

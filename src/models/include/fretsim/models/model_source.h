@@ -2,7 +2,7 @@
 // Where a bearing_housing scene's reduced models come from, and reading them
 // or building them with the reduction when their file is missing or was made
 // from other inputs.
-#include "app/parameters.h"
+#include <fretsim/support/parameters.h>
 
 #include <fretsim/reduction/reduced_model.h>
 

@@ -4,7 +4,7 @@
 // the commands that work on it: `fe`, `reduce`), and the mesh and materials
 // read from it. Shared by `fretsim mesh`, `fretsim fe`, `fretsim reduce` and
 // the scenes that build their reduced models.
-#include "app/parameters.h"
+#include <fretsim/support/parameters.h>
 
 #include <fretsim/fem/elastic_model.h>
 #include <fretsim/fem/mesh.h>

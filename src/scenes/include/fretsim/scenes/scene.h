@@ -1,6 +1,6 @@
 #pragma once
 // A scene builds only the stages it needs and runs them (docs/theory.md §5).
-#include "app/parameters.h"
+#include <fretsim/support/parameters.h>
 
 #include <map>
 #include <memory>

@@ -5,7 +5,7 @@
 // displaced and rotates, the cage-guided balls load the raceway, and the
 // interface pressure, bristle traction, subsurface stresses and Dang Van risk
 // are followed in time. Builds no mesh unless the model file must be made.
-#include "scenes/scene.h"
+#include <fretsim/scenes/scene.h>
 
 #include <fretsim/contact/dang_van.h>
 

@@ -1,6 +1,6 @@
-#include "app/run_control.h"
+#include <fretsim/support/run_control.h>
 
-#include "app/parameters.h"
+#include <fretsim/support/parameters.h>
 
 #include <cerrno>
 #include <cmath>

@@ -8,7 +8,7 @@
 // every snapshot (a run that stops early leaves the snapshots done), and an
 // XDMF sidecar that shows the points as a vertex cloud with one scalar per
 // stress component and a temporal collection over the snapshots.
-#include "output/results_file.h"
+#include <fretsim/output/results_file.h>
 
 #include <array>
 #include <string>

@@ -1,4 +1,4 @@
-#include "app/parameters.h"
+#include <fretsim/support/parameters.h>
 
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/parameter_handler.h>

@@ -1,4 +1,4 @@
-#include "app/progress.h"
+#include <fretsim/support/progress.h>
 
 #include <cmath>
 #include <cstdio>

@@ -326,36 +326,36 @@ namespace fretsim::app
       line.reduce->add_flag("-q,--quiet", line.quiet, "No progress display");
     }
 
+    /// A command on a bearing_housing scene file and its run: CONFIG, -o,
+    /// --no-plots, -q, --set.
+    CLI::App *add_bearing_run_command(CLI::App &app, CommandLine &line, const std::string &name,
+                                      const std::string &description, std::string &config_file,
+                                      std::string &output_directory, const std::string &set_example)
+    {
+      CLI::App *command = app.add_subcommand(name, description);
+      command->add_option("CONFIG", config_file, "Scene file (.prm or .json, Scene = bearing_housing)")->required();
+      line.add_output(command, output_directory, "Output directory (default: results/<config name>-" + name + ")");
+      command->add_flag("--no-plots", line.no_plots, "Do not write the PNG figure");
+      command->add_flag("-q,--quiet", line.quiet, "No progress display");
+      command->add_option("--set", line.settings, "Override a parameter, e.g. --set '" + set_example + "'");
+      return command;
+    }
+
     /// `fretsim compare`, `reference` and `map`.
     void add_compare_and_map_commands(CLI::App &app, CommandLine &line)
     {
-      auto &full_fe_check = line.full_fe_check;
-      line.compare_full   = app.add_subcommand(
-        "compare", "Check a bearing_housing run's reduced ring against the full FE model: the same ball loads and "
-                   "interface tractions at N instants, errors of the recovered displacements and stresses, run "
-                   "times, and the error against the reduced model's size (table, CSV, PNG)");
-      line.compare_full
-        ->add_option("CONFIG", full_fe_check.config_file, "Scene file (.prm or .json, Scene = bearing_housing)")
-        ->required();
-      line.add_output(line.compare_full, full_fe_check.output_directory,
-                      "Output directory (default: results/<config name>-compare)");
-      line.compare_full->add_flag("--no-plots", line.no_plots, "Do not write the PNG figure");
-      line.compare_full->add_flag("-q,--quiet", line.quiet, "No progress display");
-      line.compare_full->add_option("--set", line.settings, "Override a parameter, e.g. --set 'Compare/Instants=8'");
-      auto &reference         = line.reference;
-      line.reference_command = app.add_subcommand(
-        "reference", "Set a bearing_housing run against the full FE of the same scene: ring and housing meshed on "
-                     "Reference/Meshes, driven by the run's ball loads with its layer and friction, the same Dang "
-                     "Van (D_max and peak pressure of both, the reference's error bar; table, CSV, PNG)");
-      line.reference_command
-        ->add_option("CONFIG", reference.config_file, "Scene file (.prm or .json, Scene = bearing_housing)")
-        ->required();
-      line.add_output(line.reference_command, reference.output_directory,
-                      "Output directory (default: results/<config name>-reference)");
-      line.reference_command->add_flag("--no-plots", line.no_plots, "Do not write the PNG figure");
-      line.reference_command->add_flag("-q,--quiet", line.quiet, "No progress display");
-      line.reference_command->add_option("--set", line.settings,
-                                         "Override a parameter, e.g. --set 'Reference/Substeps=8'");
+      line.compare_full = add_bearing_run_command(
+        app, line, "compare",
+        "Check a bearing_housing run's reduced ring against the full FE model: the same ball loads and interface "
+        "tractions at N instants, errors of the recovered displacements and stresses, run times, and the error "
+        "against the reduced model's size (table, CSV, PNG)",
+        line.full_fe_check.config_file, line.full_fe_check.output_directory, "Compare/Instants=8");
+      line.reference_command = add_bearing_run_command(
+        app, line, "reference",
+        "Set a bearing_housing run against the full FE of the same scene: ring and housing meshed on "
+        "Reference/Meshes, driven by the run's ball loads with its layer and friction, the same Dang Van (D_max and "
+        "peak pressure of both, the reference's error bar; table, CSV, PNG)",
+        line.reference.config_file, line.reference.output_directory, "Reference/Substeps=8");
       line.map = add_map_command(app, line.map_options);
       line.add_output(line.map, line.map_options.output_directory,
                       "Output directory (default: results/<config name>-map); the same command with the same "

@@ -363,10 +363,130 @@ namespace fretsim::app
     }
   } // namespace
 
-  std::vector<std::string> run_reference_command(const ReferenceOptions &options, std::ostream &out)
+  namespace
   {
-    const Inputs                  in = read_inputs(options);
-    const reduction::ReducedModel model = [&] {
+    std::vector<double> per_mesh(const std::vector<MeshResult> &results, double MeshResult::*value)
+    {
+      std::vector<double> values;
+      for (const auto &r : results)
+        values.push_back(r.*value);
+      return values;
+    }
+
+    /// The finest mesh against the run, with the meshes' spread.
+    struct Verdict
+    {
+      double run_risk = 0.0, run_peak = 0.0, risk_error = nan, peak_error = nan, risk_rel = nan, peak_rel = nan;
+      double stress_rel = nan, fe_seconds = 0.0;
+    };
+
+    Verdict judge(const std::vector<MeshResult> &results, const Run &run, std::size_t snapshots, std::size_t cells)
+    {
+      const MeshResult &fine = results.back();
+      Verdict           v;
+      for (std::size_t q = 0; q < snapshots * cells; ++q)
+        v.run_peak = std::max(v.run_peak, run.pressure[q]);
+      v.run_risk   = *std::max_element(run.risk_max.begin(), run.risk_max.end());
+      v.risk_error = error_estimate(per_mesh(results, &MeshResult::risk_max));
+      v.peak_error = error_estimate(per_mesh(results, &MeshResult::peak_pressure));
+      v.risk_rel   = relative(v.run_risk, fine.risk_max);
+      v.peak_rel   = relative(v.run_peak, fine.peak_pressure);
+      v.stress_rel = fine.stress_scale > 0.0 ? fine.stress_difference / fine.stress_scale : nan;
+      v.fe_seconds = fine.table_seconds + fine.march_seconds;
+      return v;
+    }
+
+    void print_verdict(std::ostream &out, const Verdict &v, const MeshResult &fine, const Run &run)
+    {
+      const auto percent = [](double value) {
+        std::ostringstream s;
+        s << std::showpos << std::fixed << std::setprecision(1) << 100.0 * value << " %";
+        return s.str();
+      };
+      out << "\nverdict:      D_max co-simulation " << std::setprecision(4) << v.run_risk << ", full FE "
+          << fine.risk_max << " +- " << v.risk_error << " (" << percent(v.risk_rel) << ")\n"
+          << "              peak pressure co-simulation " << std::setprecision(4) << v.run_peak / 1e6
+          << " MPa, full FE " << fine.peak_pressure / 1e6 << " +- " << v.peak_error / 1e6 << " MPa ("
+          << percent(v.peak_rel) << ")\n"
+          << "              interface stresses: largest difference " << std::setprecision(3) << 100.0 * v.stress_rel
+          << " % of the full FE's largest; the full FE's stresses of the co-simulation's own tractions give D_max "
+          << std::setprecision(4) << fine.risk_max_of_run_tractions << "\n"
+          << "              time: co-simulation " << run.seconds << " s, full FE (finest mesh) " << v.fe_seconds
+          << " s\n";
+    }
+
+    std::vector<std::string> write_files(const std::string &directory, const Inputs &in, const Run &run,
+                                         const std::vector<MeshResult> &results, const Verdict &v,
+                                         const fem::CylinderGrid &grid, std::size_t snapshots, bool plots)
+    {
+      const MeshResult        &fine = results.back();
+      std::vector<std::string> files;
+      std::filesystem::create_directories(directory);
+      output::Summary summary;
+      summary.set("full_fe_risk_max", fine.risk_max);
+      summary.set("full_fe_risk_max_error_estimate", v.risk_error);
+      summary.set("cosim_risk_max", v.run_risk);
+      summary.set("full_fe_stress_risk_max_of_cosim_tractions", fine.risk_max_of_run_tractions);
+      summary.set("risk_max_relative_error", v.risk_rel);
+      summary.set("full_fe_peak_pressure_Pa", fine.peak_pressure);
+      summary.set("full_fe_peak_pressure_error_estimate_Pa", v.peak_error);
+      summary.set("cosim_peak_pressure_Pa", v.run_peak);
+      summary.set("peak_pressure_relative_error", v.peak_rel);
+      summary.set("interface_stress_relative_error", v.stress_rel);
+      summary.set("full_fe_wall_time_s", v.fe_seconds);
+      summary.set("cosim_wall_time_s", run.seconds);
+      summary.set("speed_ratio", v.fe_seconds / run.seconds);
+      summary.set("snapshots", static_cast<long long>(snapshots));
+      summary.set("substeps", static_cast<long long>(in.substeps));
+      summary.set("full_fe_risk_max_per_mesh", per_mesh(results, &MeshResult::risk_max));
+      summary.set("full_fe_peak_pressure_per_mesh_Pa", per_mesh(results, &MeshResult::peak_pressure));
+      summary.set("friction_coefficient", in.view.friction_coefficient);
+      summary.set("housing", std::string(in.housing ? "meshed" : "rigid"));
+      summary.set("run_local_compliance", in.view.local_compliance);
+      summary.write((std::filesystem::path(directory) / "compare_summary.json").string());
+      files.push_back((std::filesystem::path(directory) / "compare_summary.json").string());
+
+      const std::string table = (std::filesystem::path(directory) / "reference.csv").string();
+      {
+        std::ofstream csv(table);
+        csv << "mesh,ring_dofs,housing_dofs,period_columns,risk_max,risk_max_theta_deg,risk_max_depth_m,"
+               "risk_max_of_run_tractions,peak_pressure_Pa,stress_difference_Pa,stress_scale_Pa,table_seconds,march_seconds,iterations,linear_iterations\n"
+            << std::setprecision(10);
+        for (const auto &r : results)
+          {
+            const std::size_t cell = r.risk_point % grid.size(), layer = r.risk_point / grid.size();
+            csv << describe(r.divisions) << ',' << r.ring_dofs << ',' << r.housing_dofs << ',' << r.period << ','
+                << r.risk_max << ',' << grid.x(static_cast<int>(cell % grid.nx)) / grid.radius * 180.0 / M_PI << ','
+                << in.view.depth_layers[layer] << ',' << r.risk_max_of_run_tractions << ',' << r.peak_pressure << ','
+                << r.stress_difference << ','
+                << r.stress_scale << ',' << r.table_seconds << ',' << r.march_seconds << ',' << r.iterations << ','
+                << r.linear_iterations << '\n';
+          }
+      }
+      files.push_back(table);
+
+      const std::string profile = (std::filesystem::path(directory) / "reference_profile.csv").string();
+      {
+        const std::vector<double> fe_p = column_maxima(fine.peak_pressure_field, grid),
+                                  run_p = column_maxima(std::vector<double>(run.pressure.begin() + fine.peak_snapshot * grid.size(),
+                                                                            run.pressure.begin() + (fine.peak_snapshot + 1) * grid.size()),
+                                                        grid),
+                                  fe_d = column_maxima(fine.risk_max_field, grid), run_d = column_maxima(run.risk_max, grid);
+        std::ofstream csv(profile);
+        csv << "theta_deg,cosim_pressure_Pa,full_fe_pressure_Pa,cosim_risk_max,full_fe_risk_max\n" << std::setprecision(10);
+        for (int i = 0; i < grid.nx; ++i)
+          csv << grid.x(i) / grid.radius * 180.0 / M_PI << ',' << run_p[i] << ',' << fe_p[i] << ',' << run_d[i] << ','
+              << fe_d[i] << '\n';
+      }
+      files.push_back(profile);
+      if (plots)
+        for (const auto &png : scenes::run_plot_script("plot_reference.py", {directory}))
+          files.push_back(png);
+      return files;
+    }
+
+    reduction::ReducedModel read_model(const Inputs &in)
+    {
       try
         {
           return reduction::read_model_file(in.paths.model_file);
@@ -375,9 +495,15 @@ namespace fretsim::app
         {
           throw InputError(in.paths.source, "Model/Model file", error.what());
         }
-    }();
-    const fem::CylinderGrid &grid = model.interface_grid.grid;
-    const Run                run  = read_run(in, grid);
+    }
+  } // namespace
+
+  std::vector<std::string> run_reference_command(const ReferenceOptions &options, std::ostream &out)
+  {
+    const Inputs                  in    = read_inputs(options);
+    const reduction::ReducedModel model = read_model(in);
+    const fem::CylinderGrid      &grid  = model.interface_grid.grid;
+    const Run                     run   = read_run(in, grid);
     const std::size_t snapshots =
       in.snapshots > 0 ? std::min<std::size_t>(run.snapshots, static_cast<std::size_t>(in.snapshots)) : run.snapshots;
     const std::string directory = options.output_directory.empty()
@@ -409,104 +535,10 @@ namespace fretsim::app
               << std::setprecision(2) << r.peak_pressure / 1e6 << " MPa\n"
               << std::defaultfloat << std::flush;
       }
-
-    // ---- The verdict: the finest mesh against the run, with the meshes' spread.
-    const MeshResult   &fine = results.back();
-    std::vector<double> risks, peaks;
-    for (const auto &r : results)
-      {
-        risks.push_back(r.risk_max);
-        peaks.push_back(r.peak_pressure);
-      }
-    double run_peak = 0.0;
-    for (std::size_t q = 0; q < snapshots * grid.size(); ++q)
-      run_peak = std::max(run_peak, run.pressure[q]);
-    // D_max over the same output times as the reference: the run's whole field.
-    const double run_risk = *std::max_element(run.risk_max.begin(), run.risk_max.end());
-    const double risk_error  = error_estimate(risks), peak_error = error_estimate(peaks);
-    const double risk_rel    = relative(run_risk, fine.risk_max), peak_rel = relative(run_peak, fine.peak_pressure);
-    const double stress_rel  = fine.stress_scale > 0.0 ? fine.stress_difference / fine.stress_scale : nan;
-    const double fe_seconds  = fine.table_seconds + fine.march_seconds;
-
-    std::vector<std::string> files;
     if (!root)
-      return files;
-    const auto percent = [](double v) {
-      std::ostringstream s;
-      s << std::showpos << std::fixed << std::setprecision(1) << 100.0 * v << " %";
-      return s.str();
-    };
-    out << "\nverdict:      D_max co-simulation " << std::setprecision(4) << run_risk << ", full FE " << fine.risk_max
-        << " +- " << risk_error << " (" << percent(risk_rel) << ")\n"
-        << "              peak pressure co-simulation " << std::setprecision(4) << run_peak / 1e6
-        << " MPa, full FE " << fine.peak_pressure / 1e6 << " +- " << peak_error / 1e6 << " MPa ("
-        << percent(peak_rel) << ")\n"
-        << "              interface stresses: largest difference " << std::setprecision(3) << 100.0 * stress_rel
-        << " % of the full FE's largest; the full FE's stresses of the co-simulation's own tractions give D_max "
-        << std::setprecision(4) << fine.risk_max_of_run_tractions << "\n"
-        << "              time: co-simulation " << run.seconds << " s, full FE (finest mesh) " << fe_seconds << " s\n";
-
-    std::filesystem::create_directories(directory);
-    output::Summary summary;
-    summary.set("full_fe_risk_max", fine.risk_max);
-    summary.set("full_fe_risk_max_error_estimate", risk_error);
-    summary.set("cosim_risk_max", run_risk);
-    summary.set("full_fe_stress_risk_max_of_cosim_tractions", fine.risk_max_of_run_tractions);
-    summary.set("risk_max_relative_error", risk_rel);
-    summary.set("full_fe_peak_pressure_Pa", fine.peak_pressure);
-    summary.set("full_fe_peak_pressure_error_estimate_Pa", peak_error);
-    summary.set("cosim_peak_pressure_Pa", run_peak);
-    summary.set("peak_pressure_relative_error", peak_rel);
-    summary.set("interface_stress_relative_error", stress_rel);
-    summary.set("full_fe_wall_time_s", fe_seconds);
-    summary.set("cosim_wall_time_s", run.seconds);
-    summary.set("speed_ratio", fe_seconds / run.seconds);
-    summary.set("snapshots", static_cast<long long>(snapshots));
-    summary.set("substeps", static_cast<long long>(in.substeps));
-    summary.set("full_fe_risk_max_per_mesh", risks);
-    summary.set("full_fe_peak_pressure_per_mesh_Pa", peaks);
-    summary.set("friction_coefficient", in.view.friction_coefficient);
-    summary.set("housing", std::string(in.housing ? "meshed" : "rigid"));
-    summary.set("run_local_compliance", in.view.local_compliance);
-    summary.write((std::filesystem::path(directory) / "compare_summary.json").string());
-    files.push_back((std::filesystem::path(directory) / "compare_summary.json").string());
-
-    const std::string table = (std::filesystem::path(directory) / "reference.csv").string();
-    {
-      std::ofstream csv(table);
-      csv << "mesh,ring_dofs,housing_dofs,period_columns,risk_max,risk_max_theta_deg,risk_max_depth_m,"
-             "risk_max_of_run_tractions,peak_pressure_Pa,stress_difference_Pa,stress_scale_Pa,table_seconds,march_seconds,iterations,linear_iterations\n"
-          << std::setprecision(10);
-      for (const auto &r : results)
-        {
-          const std::size_t cell = r.risk_point % grid.size(), layer = r.risk_point / grid.size();
-          csv << describe(r.divisions) << ',' << r.ring_dofs << ',' << r.housing_dofs << ',' << r.period << ','
-              << r.risk_max << ',' << grid.x(static_cast<int>(cell % grid.nx)) / grid.radius * 180.0 / M_PI << ','
-              << in.view.depth_layers[layer] << ',' << r.risk_max_of_run_tractions << ',' << r.peak_pressure << ','
-              << r.stress_difference << ','
-              << r.stress_scale << ',' << r.table_seconds << ',' << r.march_seconds << ',' << r.iterations << ','
-              << r.linear_iterations << '\n';
-        }
-    }
-    files.push_back(table);
-
-    const std::string profile = (std::filesystem::path(directory) / "reference_profile.csv").string();
-    {
-      const std::vector<double> fe_p = column_maxima(fine.peak_pressure_field, grid),
-                                run_p = column_maxima(std::vector<double>(run.pressure.begin() + fine.peak_snapshot * grid.size(),
-                                                                          run.pressure.begin() + (fine.peak_snapshot + 1) * grid.size()),
-                                                      grid),
-                                fe_d = column_maxima(fine.risk_max_field, grid), run_d = column_maxima(run.risk_max, grid);
-      std::ofstream csv(profile);
-      csv << "theta_deg,cosim_pressure_Pa,full_fe_pressure_Pa,cosim_risk_max,full_fe_risk_max\n" << std::setprecision(10);
-      for (int i = 0; i < grid.nx; ++i)
-        csv << grid.x(i) / grid.radius * 180.0 / M_PI << ',' << run_p[i] << ',' << fe_p[i] << ',' << run_d[i] << ','
-            << fe_d[i] << '\n';
-    }
-    files.push_back(profile);
-    if (options.plots)
-      for (const auto &png : scenes::run_plot_script("plot_reference.py", {directory}))
-        files.push_back(png);
-    return files;
+      return {};
+    const Verdict verdict = judge(results, run, snapshots, grid.size());
+    print_verdict(out, verdict, results.back(), run);
+    return write_files(directory, in, run, results, verdict, grid, snapshots, options.plots);
   }
 } // namespace fretsim::app

@@ -454,32 +454,34 @@ namespace fretsim::app
       return exit_ok;
     }
 
+    /// `compare` and `reference`: options from the command line, the output
+    /// folder claimed for the command's own files, the command run.
+    template <typename Options, typename Command>
+    int run_bearing_check(CommandLine &line, Options &options, const std::string &suffix,
+                          std::vector<std::string> own_files, Command command)
+    {
+      options.overrides = parse_overrides(line.settings);
+      options.plots     = !line.no_plots;
+      options.progress  = !line.quiet;
+      const auto folder =
+        claim_output(options.output_directory, options.config_file, suffix, std::move(own_files), line.force);
+      print_files(command(options, std::cout), "table:    ");
+      return exit_ok;
+    }
+
     int run_full_fe_comparison_command(CommandLine &line)
     {
-      auto &full_fe_check     = line.full_fe_check;
-      full_fe_check.overrides = parse_overrides(line.settings);
-      full_fe_check.plots     = !line.no_plots;
-      full_fe_check.progress  = !line.quiet;
-      const auto folder = claim_output(full_fe_check.output_directory, full_fe_check.config_file, "-compare",
-                                       {"compare.csv", "compare_housing.csv", "compare_transient.csv",
-                                        "compare_pressure.csv", "compare.png"},
-                                       line.force);
-      print_files(run_compare_command(full_fe_check, std::cout), "table:    ");
-      return exit_ok;
+      return run_bearing_check(line, line.full_fe_check, "-compare",
+                               {"compare.csv", "compare_housing.csv", "compare_transient.csv", "compare_pressure.csv",
+                                "compare.png"},
+                               run_compare_command);
     }
 
     int run_reference(CommandLine &line)
     {
-      auto &reference     = line.reference;
-      reference.overrides = parse_overrides(line.settings);
-      reference.plots     = !line.no_plots;
-      reference.progress  = !line.quiet;
-      const auto folder   = claim_output(reference.output_directory, reference.config_file, "-reference",
-                                         {"compare_summary.json", "reference.csv", "reference_profile.csv",
-                                          "reference.png"},
-                                         line.force);
-      print_files(run_reference_command(reference, std::cout), "table:    ");
-      return exit_ok;
+      return run_bearing_check(line, line.reference, "-reference",
+                               {"compare_summary.json", "reference.csv", "reference_profile.csv", "reference.png"},
+                               run_reference_command);
     }
 
     int run_map(CommandLine &line)

@@ -63,8 +63,9 @@ namespace fretsim::app
         {
           if (item.find_first_not_of(" \t") == std::string::npos)
             continue;
-          std::replace(item.begin(), item.end(), 'x', ' ');
-          std::istringstream  counts(item);
+          std::string spaced = item;
+          std::replace(spaced.begin(), spaced.end(), 'x', ' ');
+          std::istringstream  counts(spaced);
           fem::MeshDivisions  d;
           long                c[5] = {0, 0, 0, 0, 0};
           std::string         rest;

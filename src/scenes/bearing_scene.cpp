@@ -82,226 +82,254 @@ namespace fretsim::scenes
     contact::DangVanSettings       dang_van;
   };
 
+  namespace
+  {
+    /// The models, the bearing and its loading.
+    std::vector<app::ParameterSpec> model_bearing_loading_specs()
+    {
+      using Spec = app::ParameterSpec;
+      return {
+        text("Model/Reduction configuration", "ring_6208_reduce.prm",
+             "The ring_housing configuration of the outer ring's Craig-Bampton model (geometry, material, mesh, "
+             "reduction), relative to this file's directory [-]."),
+        text("Model/Model file", "",
+             "The reduced model file; empty: results/<reduction configuration name>-model.h5 (where `fretsim reduce` "
+             "writes it) [-]."),
+        Spec::integer_range("Model/Characteristic constraint modes", "0",
+                            "n_cc of the ring's model over its reduction configuration's (0: the configuration's): "
+                            "the ring's interface shapes, which set how sharply the pressure under a ball is resolved "
+                            "and D_max with it (docs/bearing.md). The model is built on first use into its own file [-].",
+                            0, 5000),
+        Spec::integer_range("Model/Fixed-interface modes", "0",
+                            "m of the ring's model over its reduction configuration's (0: the configuration's) [-].", 0,
+                            5000),
+        text("Model/Housing reduction configuration", "",
+             "The ring_housing configuration (Mesh/Bodies = housing, Reduction/Coupling surfaces = housing_bore) of a "
+             "flexible housing's Craig-Bampton model, relative to this file's directory; the same Ring/Outer radius, "
+             "Ring/Width and interface grid as the ring's. Empty: the housing is rigid and fixed, as in the paper [-]."),
+        text("Model/Housing model file", "",
+             "The housing's reduced model file; empty: results/<housing configuration name>-model.h5 [-]."),
+        Spec::selection("Model/Build if missing", "true",
+                        "Build the model file with `fretsim reduce` when it is missing or was made from other inputs "
+                        "(false: stop with an error) [-].",
+                        "true|false"),
+        Spec::integer_range("Bearing/Ball count", "9", "Z: number of balls (6208: 9) [-].", 1, 100),
+        Spec::positive("Bearing/Ball diameter", "0.0127",
+                       "D_w (6208: 12.7 mm); the pitch diameter is 2 x groove bottom radius - D_w and the outer groove "
+                       "conformity groove radius / D_w, from the ring [m]."),
+        Spec::real_range("Bearing/Inner groove conformity", "0.52", "f_i = inner groove radius / D_w [-].", 0.5, 1.0,
+                         true),
+        Spec::real_range("Bearing/Radial clearance", "10e-6",
+                         "Radial internal clearance P_d (6208 normal clearance C0: 6-20 um) [m].", -1e-3, 1e-3),
+        Spec::positive("Bearing/Young's modulus", "2.08e11", "Balls and inner ring [Pa]."),
+        Spec::real_range("Bearing/Poisson ratio", "0.3", "Balls and inner ring [-].", 0.0, 0.5, true),
+        Spec::non_negative("Bearing/Contact damping", "0.1",
+                           "Hunt-Crossley coefficient alpha of the ball contacts, Q = K d^1.5 (1 + 1.5 alpha d') [s/m]."),
+        Spec::real_range("Loading/Inner ring speed", "3000", "Inner ring speed [rpm] (the outer ring is fixed).", 0,
+                         1e6),
+        Spec::real_range("Loading/Inner ring displacement x", "0", "Horizontal displacement of the inner ring [m].",
+                         -1e-3, 1e-3),
+        Spec::real_range("Loading/Inner ring displacement y", "60e-6",
+                         "Vertical (upward) displacement of the inner ring, the paper's 60 um [m].", -1e-3, 1e-3),
+        Spec::non_negative("Loading/Ramp time", "2e-3",
+                           "The displacement is applied with a smooth step over this time [s]."),
+        Spec::real_range("Loading/First ball angle", "1.5707963267948966",
+                         "Cage angle of ball 0 at t = 0, from +x towards +y (up) [rad].", -10, 10),
+        Spec::real_range("Loading/Ball pass periods", "4",
+                         "Simulated time in outer-ring ball pass periods 1/f_bp (6208 at 3000 rpm: 5.64 ms each; 3.55 "
+                         "per inner ring revolution) [-].",
+                         0.05, 1e5),
+      };
+    }
+
+    /// The ring/housing interface and the time integration.
+    std::vector<app::ParameterSpec> interface_integrator_specs()
+    {
+      using Spec = app::ParameterSpec;
+      return {
+        Spec::non_negative("Interface/Friction coefficient", "0.11", "mu between outer ring and housing [-]."),
+        Spec::real_range("Interface/Normal stiffness", "1e15",
+                         "k_n of the Winkler layer that carries the interface pressure p = k_n x penetration [Pa/m].",
+                         1e9, 1e21),
+        Spec::real_range("Interface/Tangential stiffness", "1e15", "Bristle stiffness k_t (paper eq. 4) [Pa/m].",
+                         1e9, 1e21),
+        Spec::non_negative("Interface/Damping time", "1e-6",
+                           "Normal damping of the layer, c_n = k_n x this: damps the ring's bounce in the housing [s]."),
+        Spec::non_negative("Interface/Onset pressure", "1e6",
+                           "p_s: the layer closes gradually (C^1) up to the pressure 2 p_s and carries k_n x "
+                           "penetration - p_s beyond; the damping acts through the same law, so that a closing cell's "
+                           "pressure starts from zero. 0: sharp onset, p jumps by c_n x closing speed [Pa]."),
+        Spec::selection("Interface/In-step bristle law", "implicit Euler",
+                        "What the integrator sees of the bristles within a step; after every step the paper's "
+                        "implicit Euler update is committed either way. implicit Euler: that same law (bristles and "
+                        "ring in one implicit step); linearised: a sticking cell a spring capped at mu p, a sliding "
+                        "one at its ratio tau/p, a splitting error that the step size does not cure (D_max -1.8 % on "
+                        "the paper case, -15 % on a coarse ring) and 3.5x the steps there: docs/bearing.md [-].",
+                        "linearised|implicit Euler"),
+        Spec::selection("Interface/Local compliance", "none",
+                        "Elastic half-space in series with the layer (Love's rectangles on the interface grid, "
+                        "periodic around the circumference): none (the layer alone), housing (the rigid housing's "
+                        "local elasticity, which nothing else models; the ring's comes from its reduced model and its "
+                        "residual flexibility), both "
+                        "(housing and ring: the ring's local compliance beyond what its interface modes resolve, "
+                        "counting its long wavelengths twice). Only none with a flexible housing.",
+                        "none|housing|both"),
+        Spec::selection("Interface/Ring residual flexibility", "true",
+                      "Add the part of the ring's static compliance its reduced basis misses on the interface "
+                      "(R = K^-1 - T K_r^-1 T^T, which `fretsim reduce` stores in the model file) to the local "
+                      "compliance in series with the layer, and each ball's residual displacement of the interface "
+                      "to its penetration: the pressure under a ball as the full FE ring gives it, whatever the "
+                      "basis size (docs/bearing.md). Not with Local compliance = both, which stands for the same "
+                      "compliance [-].", "true|false"),
+        Spec::selection("Interface/Residual flexibility at the balls", "true",
+                        "With the ring's residual flexibility: its reciprocal term too (Maxwell-Betti), the interface "
+                        "pressure's residual displacement of the raceway under each ball joining that ball's "
+                        "deflection, from the pressure of the interface's solve in the same evaluation (one sweep; "
+                        "summary.json reports its largest value and the sweep's correction). false: only the balls' "
+                        "residual displacement of the interface (docs/bearing.md) [-].",
+                        "true|false"),
+        Spec::selection("Interface/Housing residual flexibility", "true",
+                        "With a flexible housing (Model/Housing reduction configuration): add the part of the "
+                        "housing's static compliance its reduced basis misses on its bore (R_h = K^-1 - T K_r^-1 T^T, "
+                        "stored by `fretsim reduce` in its model file) in series with the layer, as the ring's "
+                        "(docs/bearing.md) [-].", "true|false"),
+        Spec::selection("Interface/Half-space completion", "true",
+                        "Complete the residual flexibilities at the short wavelengths their FE meshes lose: per "
+                        "circumferential wavenumber, where the model file's residual flexibility holds less compliance "
+                        "than an elastic half-space of its body's material (the exact limit at wavelengths well below "
+                        "the wall thickness, which no reduced basis holds), the shortfall is added, in full below the "
+                        "completion wavelength and fading out up to twice it. summary.json reports how much per "
+                        "wavenumber (docs/bearing.md) [-].",
+                        "true|false"),
+        Spec::non_negative("Interface/Half-space completion wavelength", "0",
+                           "lambda_c of the half-space completion: the wavelength around the circumference below which "
+                           "the residual flexibility is completed in full. 0: the ring's thinnest wall (Outer radius "
+                           "minus Groove bottom radius of its reduction configuration; 3.65 mm on the 6208) [m]."),
+        Spec::positive("Interface/Housing Young's modulus", "2.08e11",
+                       "E of the rigid housing's material, for its local compliance [Pa]."),
+        Spec::real_range("Interface/Housing Poisson ratio", "0.3", "nu of the housing's material [-].", 0.0, 0.5,
+                         true),
+        Spec::real_range("Interface/Radial interference", "0",
+                         "Ring outer radius minus housing bore radius: > 0 interference fit, < 0 clearance, 0 "
+                         "line-to-line (the paper: only the loaded half carries pressure) [m].",
+                         -1e-3, 1e-3),
+        Spec::real_range("Ring/Damping ratio", "0.02",
+                         "Stiffness-proportional damping: this ratio at the lowest elastic frequency [-].", 0.0, 10.0),
+        Spec::integer_range("Integrator/Order", "3", "Order of ARKODE's diagonally implicit Runge-Kutta method [-].", 2,
+                            5),
+        Spec::real_range("Integrator/Relative tolerance", "1e-4", "ARKODE relative tolerance [-].", 1e-12, 1e-1),
+        Spec::real_range("Integrator/Displacement tolerance", "1e-11",
+                         "Absolute tolerance as a displacement of the interface or raceway [m].", 1e-18, 1e-6),
+        Spec::non_negative("Integrator/Maximum step", "0", "Largest step; 0: only the output interval bounds it [s]."),
+        Spec::integer_range("Integrator/Maximum steps per output", "20000",
+                            "The run stops with a message when one output interval needs more steps [-].", 10,
+                            100000000),
+        Spec::integer_range("Integrator/Maximum Newton iterations", "12",
+                            "Newton iterations per stage before the step is cut. The bristles' law bends within a "
+                            "step and Newton's matrix is kept over steps, so it converges linearly: with ARKODE's own "
+                            "3 a third of the paper case's steps failed, with 12 a tenth to a sixth (docs/bearing.md) [-].",
+                            1, 100),
+        Spec::integer_range("Integrator/Maximum Newton failures per step", "10",
+                            "Newton failures in one step (each retried with a smaller step and a fresh Jacobian) "
+                            "before the step is given up and retried with ARKODE's own Newton start (the last "
+                            "solution, 3 iterations, 10 failures) for the rest of the output interval; 10 is "
+                            "ARKODE's default (docs/bearing.md) [-].",
+                            1, 100),
+        Spec::integer_range("Integrator/Jacobian interval", "5",
+                            "Steps between fresh Jacobians of the contact forces besides those after a failed Newton "
+                            "iteration (ARKODE's default 51 keeps one while the balls move the contact under it; 5: "
+                            "0.7 of the time on the paper case's four ball passes, docs/bearing.md) [-].",
+                            1, 1000),
+        Spec::selection("Integrator/Stage predictor", "cutoff order",
+                        "Newton's starting guess for each implicit stage (ARKODE's predictor): trivial (the last "
+                        "step's solution), maximum order (the last step's dense output), variable order (its order "
+                        "falling for later stages), cutoff order (full order in the step's first half, linear after; "
+                        "a third of the trivial guess's steps on the paper case, docs/bearing.md) [-].",
+                        "trivial|maximum order|variable order|cutoff order"),
+        Spec::real_range("Integrator/Newton tolerance", "0.1",
+                         "Newton stops when its update is below this fraction of the error test's tolerance "
+                         "(ARKODE's nonlinear convergence coefficient). Looser is faster; with the layer alone "
+                         "(Local compliance = none) keep 0.1: 0.3 already spoilt a test run [-].",
+                         1e-3, 1.0),
+      };
+    }
+
+    /// Output, stresses, Dang Van, and the commands that check a run.
+    std::vector<app::ParameterSpec> output_risk_check_specs()
+    {
+      using Spec = app::ParameterSpec;
+      return {
+        Spec::integer_range("Output/Samples per ball pass", "40",
+                            "Output times (fields, stresses, Dang Van steps) per ball pass period [-].", 4, 10000),
+        Spec::selection("Stresses/Evaluator", "fft",
+                        "Subsurface stresses of the interface tractions on the half-space: fft (DC-FFT), mlmi, direct.",
+                        "fft|mlmi|direct"),
+        fft_plans_parameter("Stresses/FFT plans"),
+        increasing(list(Spec::non_negative("Stresses/Depth layers", "0, 1e-4, 5e-4",
+                                           "Depths below the ring's outer surface of the stress and risk layers [m]."))),
+        Spec::positive("Dang Van/Bending fatigue limit", "690e6", "f-1 of the ring steel [Pa]."),
+        Spec::positive("Dang Van/Torsion fatigue limit", "428e6", "t-1 of the ring steel [Pa]."),
+        Spec::selection("Dang Van/Residual stress", "last_cycle_mean",
+                        "Centre of the deviatoric path per ball pass cycle: running_mean (paper eq. 5), "
+                        "last_cycle_mean, hypersphere.",
+                        "running_mean|last_cycle_mean|hypersphere"),
+        Spec::integer_range("Dang Van/Warm-up cycles", "1",
+                            "Ball pass cycles (the ramp) before D_max accumulates [-].", 0, 100000),
+        Spec::integer_range("Compare/Instants", "4",
+                            "`fretsim compare`: instants of the last ball pass re-solved with the full FE model [-].", 1,
+                            1000),
+        list(Spec::real_range("Compare/Fixed-interface modes", "10, 20, 40",
+                              "`fretsim compare`: fixed-interface mode counts m of the truncated models [-].", 0, 5000)),
+        list(Spec::real_range("Compare/Characteristic constraint modes", "40, 80, 120",
+                              "`fretsim compare`: characteristic constraint mode counts n_cc of the truncated models "
+                              "[-].",
+                              1, 5000)),
+        Spec::integer_range("Compare/Full transient steps", "20",
+                            "`fretsim compare`: steps of the full-FE transient (Newmark on the Winkler foundation, the "
+                            "run's ball loads, the run's mean step) timed against the run; 0: none [-].",
+                            0, 100000),
+        text("Compare/Full transient housing", "",
+             "`fretsim compare`: a ring_housing configuration of the housing alone (Mesh/Bodies = housing, held by its "
+             "Reduction/Clamped surfaces), relative to this file: the full-FE transient is timed a second time with "
+             "this housing meshed and joined to the ring by the layer (the full-FE equivalent of a run with the "
+             "housing's half-space or a flexible housing); empty: the ring on the rigid foundation only [-]."),
+        text("Compare/Results file", "",
+             "`fretsim compare` and `fretsim reference`: the run to compare; empty: results/<this file's "
+             "name>/results.h5 [-]."),
+        text("Reference/Meshes", "180x2x3x4x1; 360x3x4x6x2; 360x4x6x8x3",
+             "`fretsim reference`: the full-FE meshes of ring and housing, coarse to fine, ';'-separated, each "
+             "'around x radial ring x radial housing x axial x axial land' cells (the reduction configuration's "
+             "geometry and material). The march's cost grows with P = grid columns / gcd(columns, cells around), "
+             "the columns after which the mesh repeats on the grid: 1 for 360 around on 360 columns, 2 for 180 [-]."),
+        Spec::real_range("Reference/Radial grading", "4",
+                         "`fretsim reference`: radial cells in geometric progression, the thickest this many times the "
+                         "thinnest at the interface [-].",
+                         1.0, 1000.0),
+        text("Reference/Housing", "",
+             "`fretsim reference`: a ring_housing configuration of the housing (Mesh/Bodies = housing, held by its "
+             "Reduction/Clamped surfaces), relative to this file: the full-FE housing; empty: a rigid housing (the "
+             "layer alone between it and the ring) [-]."),
+        Spec::integer_range("Reference/Substeps", "4",
+                            "`fretsim reference`: quasi-static increments per output interval of the run (ball loads "
+                            "and angles linear in between) [-].",
+                            1, 1000),
+        Spec::integer_range("Reference/Snapshots", "0",
+                            "`fretsim reference`: the run's first N output times marched through; 0: all [-].", 0,
+                            10000000),
+        Spec::integer_range("Reference/Points per cell side", "3",
+                            "`fretsim reference`: a cell's unit load is spread over s x s points, its displacement the "
+                            "mean over them [-].",
+                            1, 8),
+      };
+    }
+  } // namespace
+
   std::vector<app::ParameterSpec> BearingHousingScene::parameter_specs()
   {
-    using Spec = app::ParameterSpec;
-    return {
-      text("Model/Reduction configuration", "ring_6208_reduce.prm",
-           "The ring_housing configuration of the outer ring's Craig-Bampton model (geometry, material, mesh, "
-           "reduction), relative to this file's directory [-]."),
-      text("Model/Model file", "",
-           "The reduced model file; empty: results/<reduction configuration name>-model.h5 (where `fretsim reduce` "
-           "writes it) [-]."),
-      Spec::integer_range("Model/Characteristic constraint modes", "0",
-                          "n_cc of the ring's model over its reduction configuration's (0: the configuration's): "
-                          "the ring's interface shapes, which set how sharply the pressure under a ball is resolved "
-                          "and D_max with it (docs/bearing.md). The model is built on first use into its own file [-].",
-                          0, 5000),
-      Spec::integer_range("Model/Fixed-interface modes", "0",
-                          "m of the ring's model over its reduction configuration's (0: the configuration's) [-].", 0,
-                          5000),
-      text("Model/Housing reduction configuration", "",
-           "The ring_housing configuration (Mesh/Bodies = housing, Reduction/Coupling surfaces = housing_bore) of a "
-           "flexible housing's Craig-Bampton model, relative to this file's directory; the same Ring/Outer radius, "
-           "Ring/Width and interface grid as the ring's. Empty: the housing is rigid and fixed, as in the paper [-]."),
-      text("Model/Housing model file", "",
-           "The housing's reduced model file; empty: results/<housing configuration name>-model.h5 [-]."),
-      Spec::selection("Model/Build if missing", "true",
-                      "Build the model file with `fretsim reduce` when it is missing or was made from other inputs "
-                      "(false: stop with an error) [-].",
-                      "true|false"),
-      Spec::integer_range("Bearing/Ball count", "9", "Z: number of balls (6208: 9) [-].", 1, 100),
-      Spec::positive("Bearing/Ball diameter", "0.0127",
-                     "D_w (6208: 12.7 mm); the pitch diameter is 2 x groove bottom radius - D_w and the outer groove "
-                     "conformity groove radius / D_w, from the ring [m]."),
-      Spec::real_range("Bearing/Inner groove conformity", "0.52", "f_i = inner groove radius / D_w [-].", 0.5, 1.0,
-                       true),
-      Spec::real_range("Bearing/Radial clearance", "10e-6",
-                       "Radial internal clearance P_d (6208 normal clearance C0: 6-20 um) [m].", -1e-3, 1e-3),
-      Spec::positive("Bearing/Young's modulus", "2.08e11", "Balls and inner ring [Pa]."),
-      Spec::real_range("Bearing/Poisson ratio", "0.3", "Balls and inner ring [-].", 0.0, 0.5, true),
-      Spec::non_negative("Bearing/Contact damping", "0.1",
-                         "Hunt-Crossley coefficient alpha of the ball contacts, Q = K d^1.5 (1 + 1.5 alpha d') [s/m]."),
-      Spec::real_range("Loading/Inner ring speed", "3000", "Inner ring speed [rpm] (the outer ring is fixed).", 0,
-                       1e6),
-      Spec::real_range("Loading/Inner ring displacement x", "0", "Horizontal displacement of the inner ring [m].",
-                       -1e-3, 1e-3),
-      Spec::real_range("Loading/Inner ring displacement y", "60e-6",
-                       "Vertical (upward) displacement of the inner ring, the paper's 60 um [m].", -1e-3, 1e-3),
-      Spec::non_negative("Loading/Ramp time", "2e-3",
-                         "The displacement is applied with a smooth step over this time [s]."),
-      Spec::real_range("Loading/First ball angle", "1.5707963267948966",
-                       "Cage angle of ball 0 at t = 0, from +x towards +y (up) [rad].", -10, 10),
-      Spec::real_range("Loading/Ball pass periods", "4",
-                       "Simulated time in outer-ring ball pass periods 1/f_bp (6208 at 3000 rpm: 5.64 ms each; 3.55 "
-                       "per inner ring revolution) [-].",
-                       0.05, 1e5),
-      Spec::non_negative("Interface/Friction coefficient", "0.11", "mu between outer ring and housing [-]."),
-      Spec::real_range("Interface/Normal stiffness", "1e15",
-                       "k_n of the Winkler layer that carries the interface pressure p = k_n x penetration [Pa/m].",
-                       1e9, 1e21),
-      Spec::real_range("Interface/Tangential stiffness", "1e15", "Bristle stiffness k_t (paper eq. 4) [Pa/m].",
-                       1e9, 1e21),
-      Spec::non_negative("Interface/Damping time", "1e-6",
-                         "Normal damping of the layer, c_n = k_n x this: damps the ring's bounce in the housing [s]."),
-      Spec::non_negative("Interface/Onset pressure", "1e6",
-                         "p_s: the layer closes gradually (C^1) up to the pressure 2 p_s and carries k_n x "
-                         "penetration - p_s beyond; the damping acts through the same law, so that a closing cell's "
-                         "pressure starts from zero. 0: sharp onset, p jumps by c_n x closing speed [Pa]."),
-      Spec::selection("Interface/In-step bristle law", "implicit Euler",
-                      "What the integrator sees of the bristles within a step; after every step the paper's "
-                      "implicit Euler update is committed either way. implicit Euler: that same law (bristles and "
-                      "ring in one implicit step); linearised: a sticking cell a spring capped at mu p, a sliding "
-                      "one at its ratio tau/p, a splitting error that the step size does not cure (D_max -1.8 % on "
-                      "the paper case, -15 % on a coarse ring) and 3.5x the steps there: docs/bearing.md [-].",
-                      "linearised|implicit Euler"),
-      Spec::selection("Interface/Local compliance", "none",
-                      "Elastic half-space in series with the layer (Love's rectangles on the interface grid, "
-                      "periodic around the circumference): none (the layer alone), housing (the rigid housing's "
-                      "local elasticity, which nothing else models; the ring's comes from its reduced model and its "
-                      "residual flexibility), both "
-                      "(housing and ring: the ring's local compliance beyond what its interface modes resolve, "
-                      "counting its long wavelengths twice). Only none with a flexible housing.",
-                      "none|housing|both"),
-      Spec::selection("Interface/Ring residual flexibility", "true",
-                    "Add the part of the ring's static compliance its reduced basis misses on the interface "
-                    "(R = K^-1 - T K_r^-1 T^T, which `fretsim reduce` stores in the model file) to the local "
-                    "compliance in series with the layer, and each ball's residual displacement of the interface "
-                    "to its penetration: the pressure under a ball as the full FE ring gives it, whatever the "
-                    "basis size (docs/bearing.md). Not with Local compliance = both, which stands for the same "
-                    "compliance [-].", "true|false"),
-      Spec::selection("Interface/Residual flexibility at the balls", "true",
-                      "With the ring's residual flexibility: its reciprocal term too (Maxwell-Betti), the interface "
-                      "pressure's residual displacement of the raceway under each ball joining that ball's "
-                      "deflection, from the pressure of the interface's solve in the same evaluation (one sweep; "
-                      "summary.json reports its largest value and the sweep's correction). false: only the balls' "
-                      "residual displacement of the interface (docs/bearing.md) [-].",
-                      "true|false"),
-      Spec::selection("Interface/Housing residual flexibility", "true",
-                      "With a flexible housing (Model/Housing reduction configuration): add the part of the "
-                      "housing's static compliance its reduced basis misses on its bore (R_h = K^-1 - T K_r^-1 T^T, "
-                      "stored by `fretsim reduce` in its model file) in series with the layer, as the ring's "
-                      "(docs/bearing.md) [-].", "true|false"),
-      Spec::selection("Interface/Half-space completion", "true",
-                      "Complete the residual flexibilities at the short wavelengths their FE meshes lose: per "
-                      "circumferential wavenumber, where the model file's residual flexibility holds less compliance "
-                      "than an elastic half-space of its body's material (the exact limit at wavelengths well below "
-                      "the wall thickness, which no reduced basis holds), the shortfall is added, in full below the "
-                      "completion wavelength and fading out up to twice it. summary.json reports how much per "
-                      "wavenumber (docs/bearing.md) [-].",
-                      "true|false"),
-      Spec::non_negative("Interface/Half-space completion wavelength", "0",
-                         "lambda_c of the half-space completion: the wavelength around the circumference below which "
-                         "the residual flexibility is completed in full. 0: the ring's thinnest wall (Outer radius "
-                         "minus Groove bottom radius of its reduction configuration; 3.65 mm on the 6208) [m]."),
-      Spec::positive("Interface/Housing Young's modulus", "2.08e11",
-                     "E of the rigid housing's material, for its local compliance [Pa]."),
-      Spec::real_range("Interface/Housing Poisson ratio", "0.3", "nu of the housing's material [-].", 0.0, 0.5,
-                       true),
-      Spec::real_range("Interface/Radial interference", "0",
-                       "Ring outer radius minus housing bore radius: > 0 interference fit, < 0 clearance, 0 "
-                       "line-to-line (the paper: only the loaded half carries pressure) [m].",
-                       -1e-3, 1e-3),
-      Spec::real_range("Ring/Damping ratio", "0.02",
-                       "Stiffness-proportional damping: this ratio at the lowest elastic frequency [-].", 0.0, 10.0),
-      Spec::integer_range("Integrator/Order", "3", "Order of ARKODE's diagonally implicit Runge-Kutta method [-].", 2,
-                          5),
-      Spec::real_range("Integrator/Relative tolerance", "1e-4", "ARKODE relative tolerance [-].", 1e-12, 1e-1),
-      Spec::real_range("Integrator/Displacement tolerance", "1e-11",
-                       "Absolute tolerance as a displacement of the interface or raceway [m].", 1e-18, 1e-6),
-      Spec::non_negative("Integrator/Maximum step", "0", "Largest step; 0: only the output interval bounds it [s]."),
-      Spec::integer_range("Integrator/Maximum steps per output", "20000",
-                          "The run stops with a message when one output interval needs more steps [-].", 10,
-                          100000000),
-      Spec::integer_range("Integrator/Maximum Newton iterations", "12",
-                          "Newton iterations per stage before the step is cut. The bristles' law bends within a "
-                          "step and Newton's matrix is kept over steps, so it converges linearly: with ARKODE's own "
-                          "3 a third of the paper case's steps failed, with 12 a tenth to a sixth (docs/bearing.md) [-].",
-                          1, 100),
-      Spec::integer_range("Integrator/Maximum Newton failures per step", "10",
-                          "Newton failures in one step (each retried with a smaller step and a fresh Jacobian) "
-                          "before the step is given up and retried with ARKODE's own Newton start (the last "
-                          "solution, 3 iterations, 10 failures) for the rest of the output interval; 10 is "
-                          "ARKODE's default (docs/bearing.md) [-].",
-                          1, 100),
-      Spec::integer_range("Integrator/Jacobian interval", "5",
-                          "Steps between fresh Jacobians of the contact forces besides those after a failed Newton "
-                          "iteration (ARKODE's default 51 keeps one while the balls move the contact under it; 5: "
-                          "0.7 of the time on the paper case's four ball passes, docs/bearing.md) [-].",
-                          1, 1000),
-      Spec::selection("Integrator/Stage predictor", "cutoff order",
-                      "Newton's starting guess for each implicit stage (ARKODE's predictor): trivial (the last "
-                      "step's solution), maximum order (the last step's dense output), variable order (its order "
-                      "falling for later stages), cutoff order (full order in the step's first half, linear after; "
-                      "a third of the trivial guess's steps on the paper case, docs/bearing.md) [-].",
-                      "trivial|maximum order|variable order|cutoff order"),
-      Spec::real_range("Integrator/Newton tolerance", "0.1",
-                       "Newton stops when its update is below this fraction of the error test's tolerance "
-                       "(ARKODE's nonlinear convergence coefficient). Looser is faster; with the layer alone "
-                       "(Local compliance = none) keep 0.1: 0.3 already spoilt a test run [-].",
-                       1e-3, 1.0),
-      Spec::integer_range("Output/Samples per ball pass", "40",
-                          "Output times (fields, stresses, Dang Van steps) per ball pass period [-].", 4, 10000),
-      Spec::selection("Stresses/Evaluator", "fft",
-                      "Subsurface stresses of the interface tractions on the half-space: fft (DC-FFT), mlmi, direct.",
-                      "fft|mlmi|direct"),
-      fft_plans_parameter("Stresses/FFT plans"),
-      increasing(list(Spec::non_negative("Stresses/Depth layers", "0, 1e-4, 5e-4",
-                                         "Depths below the ring's outer surface of the stress and risk layers [m]."))),
-      Spec::positive("Dang Van/Bending fatigue limit", "690e6", "f-1 of the ring steel [Pa]."),
-      Spec::positive("Dang Van/Torsion fatigue limit", "428e6", "t-1 of the ring steel [Pa]."),
-      Spec::selection("Dang Van/Residual stress", "last_cycle_mean",
-                      "Centre of the deviatoric path per ball pass cycle: running_mean (paper eq. 5), "
-                      "last_cycle_mean, hypersphere.",
-                      "running_mean|last_cycle_mean|hypersphere"),
-      Spec::integer_range("Dang Van/Warm-up cycles", "1",
-                          "Ball pass cycles (the ramp) before D_max accumulates [-].", 0, 100000),
-      Spec::integer_range("Compare/Instants", "4",
-                          "`fretsim compare`: instants of the last ball pass re-solved with the full FE model [-].", 1,
-                          1000),
-      list(Spec::real_range("Compare/Fixed-interface modes", "10, 20, 40",
-                            "`fretsim compare`: fixed-interface mode counts m of the truncated models [-].", 0, 5000)),
-      list(Spec::real_range("Compare/Characteristic constraint modes", "40, 80, 120",
-                            "`fretsim compare`: characteristic constraint mode counts n_cc of the truncated models "
-                            "[-].",
-                            1, 5000)),
-      Spec::integer_range("Compare/Full transient steps", "20",
-                          "`fretsim compare`: steps of the full-FE transient (Newmark on the Winkler foundation, the "
-                          "run's ball loads, the run's mean step) timed against the run; 0: none [-].",
-                          0, 100000),
-      text("Compare/Full transient housing", "",
-           "`fretsim compare`: a ring_housing configuration of the housing alone (Mesh/Bodies = housing, held by its "
-           "Reduction/Clamped surfaces), relative to this file: the full-FE transient is timed a second time with "
-           "this housing meshed and joined to the ring by the layer (the full-FE equivalent of a run with the "
-           "housing's half-space or a flexible housing); empty: the ring on the rigid foundation only [-]."),
-      text("Compare/Results file", "",
-           "`fretsim compare` and `fretsim reference`: the run to compare; empty: results/<this file's "
-           "name>/results.h5 [-]."),
-      text("Reference/Meshes", "180x2x3x4x1; 360x3x4x6x2; 360x4x6x8x3",
-           "`fretsim reference`: the full-FE meshes of ring and housing, coarse to fine, ';'-separated, each "
-           "'around x radial ring x radial housing x axial x axial land' cells (the reduction configuration's "
-           "geometry and material). The march's cost grows with P = grid columns / gcd(columns, cells around), "
-           "the columns after which the mesh repeats on the grid: 1 for 360 around on 360 columns, 2 for 180 [-]."),
-      Spec::real_range("Reference/Radial grading", "4",
-                       "`fretsim reference`: radial cells in geometric progression, the thickest this many times the "
-                       "thinnest at the interface [-].",
-                       1.0, 1000.0),
-      text("Reference/Housing", "",
-           "`fretsim reference`: a ring_housing configuration of the housing (Mesh/Bodies = housing, held by its "
-           "Reduction/Clamped surfaces), relative to this file: the full-FE housing; empty: a rigid housing (the "
-           "layer alone between it and the ring) [-]."),
-      Spec::integer_range("Reference/Substeps", "4",
-                          "`fretsim reference`: quasi-static increments per output interval of the run (ball loads "
-                          "and angles linear in between) [-].",
-                          1, 1000),
-      Spec::integer_range("Reference/Snapshots", "0",
-                          "`fretsim reference`: the run's first N output times marched through; 0: all [-].", 0,
-                          10000000),
-      Spec::integer_range("Reference/Points per cell side", "3",
-                          "`fretsim reference`: a cell's unit load is spread over s x s points, its displacement the "
-                          "mean over them [-].",
-                          1, 8),
-    };
+    std::vector<app::ParameterSpec> specs = model_bearing_loading_specs();
+    for (auto group : {interface_integrator_specs(), output_risk_check_specs()})
+      specs.insert(specs.end(), group.begin(), group.end());
+    return specs;
   }
 
   BearingHousingScene::BearingHousingScene(app::SceneParameters p)

@@ -96,3 +96,55 @@ TEST(FeReference, FrictionlessEqualsTheFullFeRingOnTheLayer)
       EXPECT_LT(std::abs(fy - balls) / balls, 1e-9);
     }
 }
+
+// (b) With friction, balls moving by half a column per increment: the
+// bristles stay within Coulomb's limit, the shear the ring takes balances
+// about its axis and along it (the balls push radially), and the contact
+// holds both sticking and slipping cells. Equilibrium holds for the balanced
+// solve; the committed tractions are the law's, which the secant iterations
+// met to 10⁻⁵ μ p_max per cell: that bounds the committed imbalance.
+TEST(FeReference, FrictionKeepsCoulombAndBalancesTheRing)
+{
+  SmallRing          ring(72);
+  fem::ElasticModel  fe(ring.mesh, {{fem::MaterialId::ring, steel}}, 1);
+  const auto         tables = models::interface_influence(fe, ring.grid, ring_request(72, 1));
+  models::ReferenceSettings settings;
+  settings.substeps = 2;
+  models::FeReference reference(tables, nullptr, {0.3, 1e15, 1e15, 0.0}, settings);
+  const double        column = ring.grid.hx / ring.grid.radius;
+  for (int step = 0; step < 3; ++step)
+    {
+      models::ReferenceLoads loads;
+      loads.time = 1e-4 * step;
+      for (const auto &[angle, force] : {std::pair{1.4, 2000.0}, {1.75, 3000.0}})
+        {
+          loads.ball_angles.push_back(angle + 0.5 * column * step);
+          loads.ball_loads.push_back(force);
+        }
+      const models::ReferenceState state = reference.advance(loads);
+      double torque = 0.0, axial = 0.0, limit = 0.0, p_max = 0.0;
+      int    sticking = 0, slipping = 0;
+      for (std::size_t c = 0; c < ring.grid.size(); ++c)
+        {
+          const double p = state.pressure[c], tau = std::hypot(state.shear_x[c], state.shear_y[c]);
+          p_max = std::max(p_max, p);
+          EXPECT_LE(tau, 0.3 * std::max(p, 0.0) * (1.0 + 1e-12)) << c;
+          torque += state.shear_x[c] * ring.grid.cell_area() * ring.grid.radius;
+          axial += state.shear_y[c] * ring.grid.cell_area();
+          limit += 0.3 * std::max(p, 0.0) * ring.grid.cell_area();
+          if (p > 0.0)
+            (tau >= 0.3 * p * (1.0 - 1e-3) ? slipping : sticking) += 1;
+        }
+      std::printf("step %d: p_max %.4g MPa, sticking %d, slipping %d, torque %.3g of mu P R, axial %.3g of mu P\n",
+                  step, p_max / 1e6, sticking, slipping, torque / (limit * ring.grid.radius), axial / limit);
+      // what the committed law may differ from the balanced solve: 10⁻⁵ μ p_max per loaded cell
+      const double bound = 1e-5 * 0.3 * p_max * ring.grid.cell_area() * (sticking + slipping);
+      EXPECT_LT(std::abs(torque), bound * ring.grid.radius); // measured 0.12-0.15e-3 of mu P R
+      EXPECT_LT(std::abs(axial), bound);
+      if (step > 0)
+        {
+          EXPECT_GT(sticking, 0);
+          EXPECT_GT(slipping, 0);
+        }
+    }
+}

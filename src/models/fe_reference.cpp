@@ -267,7 +267,6 @@ namespace fretsim::models
 
     struct Increment
     {
-      Vector                base;   ///< right-hand side without the bristles' secant: d_0 | s_0 − s_old
       std::array<double, 6> force{}; ///< ball loads' work on the rigid motions / cell area
       Vector                ball;   ///< ring displacement from the balls [3][cell]
     };

@@ -51,15 +51,18 @@ TEST(ReferenceCommand, SmallRingAgainstTheFullFe)
     EXPECT_TRUE(std::isfinite(summary_number(summary, key))) << key << "\n" << summary;
   const double fe_peak = summary_number(summary, "full_fe_peak_pressure_Pa");
   const double run_peak = summary_number(summary, "cosim_peak_pressure_Pa");
-  EXPECT_NEAR(fe_peak / 1e6, 103.3, 1.0) << summary; // the finest mesh, deterministic up to the solvers' 1e-5
-  EXPECT_NEAR(run_peak / 1e6, 68.6, 3.0) << summary;  // the co-simulation's, as its own tests hold it
+  // Measured 103.31 MPa (finest mesh) and 68.64 MPa (the run). The reference is driven by the run's ball
+  // loads, so both carry the run's spread between CPUs and thread counts (its peak moves by up to 0.5 %
+  // over integrator tolerances, docs/bearing.md#stability); 1 and 3 MPa leave room for that and no more.
+  EXPECT_NEAR(fe_peak / 1e6, 103.3, 1.0) << summary;
+  EXPECT_NEAR(run_peak / 1e6, 68.6, 3.0) << summary;
   EXPECT_EQ(read_csv(dir / "reference" / "reference.csv").size(), 2u);
 }
 
 TEST(ReferenceCommand, RefusesBadMeshesAndAFlexibleHousing)
 {
   const auto dir = prepared_run();
-  for (const std::string &meshes : {"72x2", "72x2x2x3x0", "2x1x1x1x1", ""})
+  for (const std::string meshes : {"72x2", "72x2x2x3x0", "2x1x1x1x1", ""})
     {
       const Outcome out = run_program("reference " + (dir / "scene.prm").string() + " -o " +
                                       (dir / "bad").string() + " --set 'Reference/Meshes=" + meshes + "'");

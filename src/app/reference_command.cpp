@@ -15,6 +15,7 @@
 #include <fretsim/models/fe_reference.h>
 #include <fretsim/models/interface_influence.h>
 #include <fretsim/models/reduction.h>
+#include <fretsim/models/ring_stress.h>
 #include <fretsim/models/ring_housing.h>
 #include <fretsim/reduction/reduced_model.h>
 
@@ -63,17 +64,12 @@ namespace fretsim::app
         {
           if (item.find_first_not_of(" \t") == std::string::npos)
             continue;
-          std::string spaced = item;
-          std::replace(spaced.begin(), spaced.end(), 'x', ' ');
-          std::istringstream  counts(spaced);
-          fem::MeshDivisions  d;
-          long                c[5] = {0, 0, 0, 0, 0};
-          std::string         rest;
-          if (!(counts >> c[0] >> c[1] >> c[2] >> c[3] >> c[4]) || (counts >> rest) ||
-              *std::min_element(c, c + 5) < 1 || c[0] < 3)
+          const std::vector<long> c = parse_cell_counts(item, 5);
+          if (c.empty() || c[0] < 3)
             p.reject("Reference/Meshes", "expected 'around x radial ring x radial housing x axial x axial land' "
                                          "cells (whole numbers >= 1, at least 3 around) per mesh, got '" +
                                            item + "'");
+          fem::MeshDivisions d;
           d.circumferential = static_cast<unsigned int>(c[0]);
           d.radial_ring     = static_cast<unsigned int>(c[1]);
           d.radial_housing  = static_cast<unsigned int>(c[2]);
@@ -123,6 +119,7 @@ namespace fretsim::app
       std::vector<double> time, ball_angle, ball_load, pressure, shear_x, shear_y, stress, risk_max;
       std::size_t         snapshots = 0, balls = 0;
       double              seconds   = nan;
+      std::string         ring_stresses = "half-space"; ///< the run's stress model (a run without the attribute had only this)
     };
 
     Run read_run(const Inputs &in, const fem::CylinderGrid &grid)
@@ -162,6 +159,7 @@ namespace fretsim::app
           try
             {
               r.seconds = ResultsFile::read_double_attribute(file, "/", "run_seconds");
+              r.ring_stresses = ResultsFile::read_string_attribute(file, "/", "ring_stresses");
             }
           catch (const std::exception &)
             {
@@ -204,35 +202,6 @@ namespace fretsim::app
              std::to_string(d.radial_housing) + "x" + std::to_string(d.axial) + "x" + std::to_string(d.axial_land);
     }
 
-    /// The ring's tables on one mesh: free, loaded on the grid and by a ball
-    /// with the reduced model's footprint; stresses on the run's layers. The
-    /// FE model lives only while they are made.
-    models::InterfaceInfluence ring_influence(const Inputs &in, const reduction::ReducedModel &model,
-                                              const fem::MeshDivisions &divisions)
-    {
-      models::RingHousingRequest ring = in.ring;
-      ring.divisions                  = divisions;
-      ring.refinements                = 0;
-      auto mesh = std::make_shared<const fem::Mesh>(models::build_ring_housing_mesh(ring, in.view.reduction_config));
-      fem::ElasticModel        fe(mesh, ring.materials, ring.degree);
-      models::InfluenceRequest request;
-      request.support               = models::InfluenceSupport::free_ring;
-      request.circumferential_cells = divisions.circumferential;
-      request.depths                = in.view.depth_layers;
-      request.points_per_side       = in.points_per_side;
-      request.ball                  = [&](double angle) {
-        fem::RacewayBallLoad ball;
-        ball.ring                      = ring.ring;
-        ball.angle                     = angle;
-        ball.contact_angle             = model.raceway.contact_angle;
-        ball.semi_axis_circumferential = model.raceway.semi_axis_circumferential;
-        ball.semi_axis_transverse      = model.raceway.semi_axis_transverse;
-        ball.force                     = 1.0;
-        return ball;
-      };
-      return models::interface_influence(fe, model.interface_grid.grid, request);
-    }
-
     /// The housing's tables on the same divisions, held as its configuration holds it.
     models::InterfaceInfluence housing_influence(const Inputs &in, const fem::CylinderGrid &grid,
                                                  const fem::MeshDivisions &divisions)
@@ -257,7 +226,9 @@ namespace fretsim::app
       const fem::CylinderGrid &grid = model.interface_grid.grid;
       r.divisions                   = divisions;
       const auto table_start        = Clock::now();
-      const models::InterfaceInfluence ring_tables = ring_influence(in, model, divisions);
+      const models::InterfaceInfluence ring_tables =
+        models::ring_influence(in.ring, in.view.reduction_config, model, divisions, in.view.depth_layers,
+                               in.points_per_side);
       r.ring_dofs                                  = ring_tables.dofs;
       r.period                                     = ring_tables.period;
       std::optional<models::InterfaceInfluence> housing_tables;
@@ -427,6 +398,7 @@ namespace fretsim::app
       summary.set("full_fe_risk_max", fine.risk_max);
       summary.set("full_fe_risk_max_error_estimate", v.risk_error);
       summary.set("cosim_risk_max", v.run_risk);
+      summary.set("cosim_ring_stresses", run.ring_stresses);
       summary.set("full_fe_stress_risk_max_of_cosim_tractions", fine.risk_max_of_run_tractions);
       summary.set("risk_max_relative_error", v.risk_rel);
       summary.set("full_fe_peak_pressure_Pa", fine.peak_pressure);
@@ -441,6 +413,8 @@ namespace fretsim::app
       summary.set("substeps", static_cast<long long>(in.substeps));
       summary.set("full_fe_risk_max_per_mesh", per_mesh(results, &MeshResult::risk_max));
       summary.set("full_fe_peak_pressure_per_mesh_Pa", per_mesh(results, &MeshResult::peak_pressure));
+      summary.set("full_fe_stress_risk_max_of_cosim_tractions_per_mesh",
+                  per_mesh(results, &MeshResult::risk_max_of_run_tractions));
       summary.set("friction_coefficient", in.view.friction_coefficient);
       summary.set("housing", std::string(in.housing ? "meshed" : "rigid"));
       summary.set("run_local_compliance", in.view.local_compliance);

@@ -1,6 +1,9 @@
 #include <fretsim/contact/bristle.h>
 #include <fretsim/contact/convolution.h>
 #include <fretsim/models/fe_reference.h>
+#include <fretsim/models/ring_stress.h>
+
+#include "table_convolution.h"
 
 #include <Eigen/Dense>
 
@@ -15,7 +18,8 @@ namespace fretsim::models
 {
   namespace
   {
-    using Vector = std::vector<double>;
+    using detail::StackedConvolution;
+    using detail::Vector;
 
     double dot(const Vector &a, const Vector &b)
     {
@@ -25,81 +29,6 @@ namespace fretsim::models
       return sum;
     }
 
-    /// A convolution along the closed circumference between fields of `rows`
-    /// rows per column whose kernel repeats every P columns: P columns are
-    /// stacked into one, so that the kernel is translation invariant and
-    /// contact::SurfaceConvolution's row-pair form applies.
-    class StackedConvolution
-    {
-    public:
-      /// kernel(ph, b, i, a): response in row a of column i to a unit load in
-      /// row b of column ph < P.
-      using Kernel = std::function<double(int ph, int b, int i, int a)>;
-
-      StackedConvolution(int nx, int rows, int period, const Kernel &kernel, const Vector &diagonal = {})
-        : nx(nx)
-        , rows(rows)
-        , period(period)
-        , stacked{nx / period, rows * period, 1.0, 1.0, 0.0, 0.0}
-        , convolution(stacked, row_pair(kernel, diagonal))
-      {}
-
-      /// y = K x, fields [rows][nx].
-      void apply(const Vector &x, Vector &y) const { apply_with(convolution, x, y); }
-      /// The inverse of K on the whole closed grid.
-      contact::SurfaceConvolution inverse() const { return convolution.inverse(0.0); }
-      void apply_with(const contact::SurfaceConvolution &c, const Vector &x, Vector &y) const
-      {
-        pack(x, packed_in);
-        c.apply(packed_in, packed_out);
-        unpack(packed_out, y);
-      }
-
-    private:
-      contact::RowPairInfluenceFunction row_pair(const Kernel &kernel, const Vector &diagonal) const
-      {
-        const int NX = nx / period, n = nx, p = period, r = rows;
-        return [=](int dI, int field_row, int load_row) {
-          const int d      = ((dI % NX) + NX) % NX;
-          const int sub_t  = field_row / r, a = field_row % r, sub_s = load_row / r, b = load_row % r;
-          const int column = ((d * p + sub_t - sub_s) % n + n) % n; // relative to the load's column
-          double    value  = kernel(sub_s, b, (column + sub_s) % n, a);
-          if (!diagonal.empty() && d == 0 && field_row == load_row)
-            value += diagonal[static_cast<std::size_t>(a)];
-          return value;
-        };
-      }
-      void pack(const Vector &x, Vector &out) const
-      {
-        out.resize(x.size());
-        for (int a = 0; a < rows; ++a)
-          for (int i = 0; i < nx; ++i)
-            out[static_cast<std::size_t>(((i % period) * rows + a) * (nx / period) + i / period)] =
-              x[static_cast<std::size_t>(a * nx + i)];
-      }
-      void unpack(const Vector &in, Vector &y) const
-      {
-        y.resize(in.size());
-        for (int a = 0; a < rows; ++a)
-          for (int i = 0; i < nx; ++i)
-            y[static_cast<std::size_t>(a * nx + i)] =
-              in[static_cast<std::size_t>(((i % period) * rows + a) * (nx / period) + i / period)];
-      }
-
-      int                         nx, rows, period;
-      contact::SurfaceGrid        stacked;
-      contact::SurfaceConvolution convolution;
-      mutable Vector              packed_in, packed_out;
-    };
-
-    /// Where a ball at angle ψ sits between two column centres: the lower
-    /// column and the upper one's weight.
-    std::pair<int, double> ball_columns(const fem::CylinderGrid &grid, double angle)
-    {
-      const double u  = (angle * grid.radius - grid.x_min) / grid.hx - 0.5;
-      const double i0 = std::floor(u);
-      return {static_cast<int>(((static_cast<long>(i0) % grid.nx) + grid.nx) % grid.nx), u - i0};
-    }
   } // namespace
 
   struct FeReference::Impl
@@ -115,7 +44,7 @@ namespace fretsim::models
     bool                      friction;
     std::unique_ptr<StackedConvolution> compliance;
     std::unique_ptr<contact::SurfaceConvolution> preconditioner;
-    std::vector<std::unique_ptr<StackedConvolution>> stress; ///< per layer
+    std::unique_ptr<RingStressTable>             stress; ///< null: tables without stresses
     std::array<Vector, 6>     rigid;                         ///< B: rigid motions at the cells, [3][cell]
 
     // State: tractions (p and the bristles' τ_b = −shear on the ring), the
@@ -144,7 +73,8 @@ namespace fretsim::models
       area     = grid.cell_area();
       friction = law.friction_coefficient > 0.0;
       build_compliance();
-      build_stresses();
+      if (ring.layers() > 0)
+        stress = std::make_unique<RingStressTable>(ring);
       build_rigid_motions();
       x.assign(n, 0.0);
       tau_committed.assign(2 * cells, 0.0);
@@ -177,22 +107,6 @@ namespace fretsim::models
       std::fill(diagonal.begin(), diagonal.begin() + ny, 1.0 / law.normal_stiffness);
       preconditioner = std::make_unique<contact::SurfaceConvolution>(
         StackedConvolution(nx, 3 * ny, period, kernel, diagonal).inverse());
-    }
-
-    void build_stresses()
-    {
-      for (std::size_t layer = 0; layer < ring.layers(); ++layer)
-        {
-          const auto kernel = [this, layer](int ph, int b_row, int i, int a_row) {
-            const int k = b_row / ny, b = b_row % ny, c = a_row / ny, a = a_row % ny;
-            if (k >= 3)
-              return 0.0;
-            const std::size_t cell =
-              static_cast<std::size_t>(a) * nx + ((i - (ph - ph % ring.period)) % nx + nx) % nx;
-            return area * ring.stress[ring.stress_index(ph % ring.period, k, b, layer, cell, c)];
-          };
-          stress.push_back(std::make_unique<StackedConvolution>(nx, 6 * ny, period, kernel));
-        }
     }
 
     /// The six rigid motions of the ring at the cell centres, (u_r, u_θ, u_z).
@@ -234,30 +148,10 @@ namespace fretsim::models
         }
     }
 
-    /// Σ over the two columns around ψ of weight × q × the ball table
-    /// (`components` values per cell, `layers` layers), shifted.
     template <typename Add>
     void add_ball(double psi, double q, const Vector &table, int components, std::size_t layers, Add add) const
     {
-      const auto [i0, w] = ball_columns(grid, psi);
-      for (int s = 0; s < 2; ++s)
-        {
-          const int    column = (i0 + s) % nx, ph = column % ring.period, shift = column - ph;
-          const double weight = q * (s == 0 ? 1.0 - w : w);
-          if (weight == 0.0)
-            continue;
-          const std::size_t per_phase = layers * cells * components;
-          for (std::size_t layer = 0; layer < layers; ++layer)
-            for (int j = 0; j < ny; ++j)
-              for (int i = 0; i < nx; ++i)
-                {
-                  const std::size_t target = static_cast<std::size_t>(j) * nx + i;
-                  const std::size_t source = static_cast<std::size_t>(j) * nx + ((i - shift) % nx + nx) % nx;
-                  const double *row = table.data() + ph * per_phase + (layer * cells + source) * components;
-                  for (int comp = 0; comp < components; ++comp)
-                    add(layer * cells + target, comp, weight * row[comp]);
-                }
-        }
+      detail::add_ball_table(grid, ring.period, psi, q, table, components, layers, add);
     }
 
     // ---- One increment.
@@ -543,27 +437,8 @@ namespace fretsim::models
                        const Vector &shear_y) const
     {
       Vector out;
-      if (stress.empty())
-        return out;
-      // The ring's loads per cell: (p, shear_x, shear_y), rows of 6 ny.
-      Vector load(static_cast<std::size_t>(6 * ny) * nx, 0.0), field;
-      std::copy(pressure.begin(), pressure.end(), load.begin());
-      std::copy(shear_x.begin(), shear_x.end(), load.begin() + static_cast<std::ptrdiff_t>(cells));
-      std::copy(shear_y.begin(), shear_y.end(), load.begin() + static_cast<std::ptrdiff_t>(2 * cells));
-      const std::size_t layers = stress.size();
-      out.assign(layers * 6 * cells, 0.0);
-      for (std::size_t layer = 0; layer < layers; ++layer)
-        {
-          stress[layer]->apply(load, field);
-          std::copy(field.begin(), field.end(), out.begin() + static_cast<std::ptrdiff_t>(layer * 6 * cells));
-        }
-      for (std::size_t b = 0; b < loads.ball_angles.size(); ++b)
-        if (loads.ball_loads[b] != 0.0)
-          add_ball(loads.ball_angles[b], loads.ball_loads[b], ring.ball_stress, 6, layers,
-                   [&](std::size_t point, int comp, double value) {
-                     const std::size_t layer = point / cells, cell = point % cells;
-                     out[(layer * 6 + static_cast<std::size_t>(comp)) * cells + cell] += value;
-                   });
+      if (stress)
+        stress->evaluate(loads.ball_angles, loads.ball_loads, pressure, shear_x, shear_y, out);
       return out;
     }
 

@@ -36,6 +36,53 @@ namespace fretsim::models
     }
   } // namespace
 
+  struct InterfaceStressSampler::Impl
+  {
+    std::size_t                        points = 0;
+    std::unique_ptr<fem::StressSampler> sampler;
+  };
+
+  InterfaceStressSampler::InterfaceStressSampler(const fem::ElasticModel &model, const fem::CylinderGrid &grid,
+                                                 const std::vector<double> &depths, bool ring)
+    : impl(std::make_unique<Impl>())
+  {
+    // A point on an element face takes one side's stress, and which side is
+    // the search's choice, not the same from one column to the next: the
+    // mean of points a millionth of a cell to either side along θ, the axis
+    // and the depth is the same for every column the mesh repeats over.
+    const double             d_theta = 1e-6 * grid.hx / grid.radius, d_z = 1e-6 * grid.hy, d_r = 1e-6 * grid.hx;
+    std::vector<fem::Point3> points;
+    for (const double depth : depths)
+      for (int j = 0; j < grid.ny; ++j)
+        for (int i = 0; i < grid.nx; ++i)
+          for (const double sr : {-1.0, 1.0})
+            for (const double sz : {-1.0, 1.0})
+              for (const double st : {-1.0, 1.0})
+                {
+                  const double below = std::max(depth + sr * d_r, 0.0), r = grid.radius + (ring ? -below : below),
+                               theta = grid.x(i) / grid.radius + st * d_theta;
+                  points.push_back({r * std::cos(theta), r * std::sin(theta), grid.y(j) + sz * d_z});
+                }
+    impl->points  = points.size() / samples_per_point;
+    impl->sampler = std::make_unique<fem::StressSampler>(model, points, fem::StressFrame::cylindrical);
+  }
+
+  InterfaceStressSampler::~InterfaceStressSampler() = default;
+
+  std::vector<double> InterfaceStressSampler::evaluate(const fem::DisplacementField &u) const
+  {
+    const std::vector<double> cylindrical = impl->sampler->evaluate(u);
+    std::vector<double>       local(6 * impl->points, 0.0);
+    for (std::size_t p = 0; p < impl->points; ++p)
+      for (std::size_t q = 0; q < samples_per_point; ++q)
+        {
+          const auto sample = contact_frame_stress(&cylindrical[6 * (p * samples_per_point + q)]);
+          for (int c = 0; c < 6; ++c)
+            local[6 * p + c] += sample[c] / samples_per_point;
+        }
+    return local;
+  }
+
   InterfaceInfluence interface_influence(fem::ElasticModel &model, const fem::CylinderGrid &grid,
                                          const InfluenceRequest &request)
   {
@@ -59,19 +106,9 @@ namespace fretsim::models
         for (const auto &p : cell_points(grid, i, j, s))
           all_points.push_back(p);
     const fem::SurfacePointMap sampler(model, all_points, surface);
-    std::unique_ptr<fem::StressSampler> stress_sampler;
+    std::unique_ptr<InterfaceStressSampler> stress_sampler;
     if (!t.depths.empty())
-      {
-        std::vector<fem::Point3> below;
-        for (const double depth : t.depths)
-          for (int j = 0; j < grid.ny; ++j)
-            for (int i = 0; i < grid.nx; ++i)
-              {
-                const double r = grid.radius + (ring ? -depth : depth), theta = grid.x(i) / grid.radius;
-                below.push_back({r * std::cos(theta), r * std::sin(theta), grid.y(j)});
-              }
-        stress_sampler = std::make_unique<fem::StressSampler>(model, below, fem::StressFrame::cylindrical);
-      }
+      stress_sampler = std::make_unique<InterfaceStressSampler>(model, grid, t.depths, ring);
 
     const std::size_t cells = grid.size(), per_cell = static_cast<std::size_t>(s * s);
     // Displacement means and stresses of one solve, appended to the tables.
@@ -96,12 +133,8 @@ namespace fretsim::models
         }
       if (stress_sampler)
         {
-          const std::vector<double> cylindrical = stress_sampler->evaluate(u);
-          for (std::size_t p = 0; p < cylindrical.size() / 6; ++p)
-            {
-              const auto local = contact_frame_stress(&cylindrical[6 * p]);
-              stress.insert(stress.end(), local.begin(), local.end());
-            }
+          const std::vector<double> local = stress_sampler->evaluate(u);
+          stress.insert(stress.end(), local.begin(), local.end());
         }
       ++t.solves;
     };

@@ -68,6 +68,29 @@ namespace fretsim::models
     return source;
   }
 
+  RingStressSource ring_stress_source(const app::SceneParameters &par, const ModelSource &ring,
+                                      const std::vector<double> &depths)
+  {
+    namespace fs             = std::filesystem;
+    const std::string mesh   = par.get("Stresses/Ring mesh");
+    const auto        counts = app::parse_cell_counts(mesh, 4);
+    if (counts.empty() || counts[0] < 3)
+      par.reject("Stresses/Ring mesh", "expected 'around x radial x axial x axial land' cells (whole numbers >= 1, "
+                                       "at least 3 around), got '" + mesh + "'");
+    RingStressSource source;
+    source.config                    = ring.config;
+    source.divisions.circumferential = static_cast<unsigned int>(counts[0]);
+    source.divisions.radial_ring     = static_cast<unsigned int>(counts[1]);
+    source.divisions.axial           = static_cast<unsigned int>(counts[2]);
+    source.divisions.axial_land      = static_cast<unsigned int>(counts[3]);
+    source.divisions.radial_grading  = par.get_double("Stresses/Ring mesh radial grading");
+    source.depths                    = depths;
+    source.file = (fs::path(ring.file).parent_path() / (fs::path(ring.config).stem().string() + "-stress-tables.h5"))
+                    .string();
+    source.expected_hash = ring_stress_hash(source);
+    return source;
+  }
+
   ModelLoader::ModelLoader(bool build_if_missing, bool progress)
     : build_if_missing(build_if_missing)
     , progress(progress)
@@ -103,6 +126,41 @@ namespace fretsim::models
         built_any = true;
         return reduction::read_model_file(source.file, source.expected_hash);
       }
+  }
+
+  InterfaceInfluence ModelLoader::load_ring_stress(const RingStressSource &source, const reduction::ReducedModel &ring,
+                                                 const app::SceneParameters &scene)
+  {
+    try
+      {
+        InterfaceInfluence tables = read_ring_stress_file(source.file, source.expected_hash);
+        if (tables.grid.nx == ring.interface_grid.grid.nx && tables.grid.ny == ring.interface_grid.grid.ny)
+          return tables;
+      }
+    catch (const std::runtime_error &error)
+      {
+        if (!build_if_missing)
+          scene.reject("Stresses/Ring mesh", std::string(error.what()) + "; allow Model/Build if missing to build them");
+      }
+    const auto &d = source.divisions;
+    std::cerr << "bearing_housing: building the ring's full-FE stress tables " << source.file << " (mesh "
+              << d.circumferential << "x" << d.radial_ring << "x" << d.axial << "x" << d.axial_land
+              << "; about 2 minutes for the 6208 ring)\n";
+    if (!fem::ParallelEnvironment::active())
+      mpi = std::make_unique<fem::ParallelEnvironment>();
+    const RingHousingRequest request = read_ring_housing_request(read_ring_housing_parameters(source.config, {}));
+    InterfaceInfluence tables =
+      ring_influence(request, source.config, ring, source.divisions, source.depths, source.points_per_side);
+    tables.displacement.clear(); // the stresses are what a run needs
+    tables.ball_displacement.clear();
+    if (fem::ParallelEnvironment::rank() == 0)
+      {
+        if (const auto parent = std::filesystem::path(source.file).parent_path(); !parent.empty())
+          std::filesystem::create_directories(parent);
+        write_ring_stress_file(source.file, tables, source.expected_hash);
+      }
+    built_any = true;
+    return tables;
   }
 
   void ModelLoader::finish()

@@ -15,14 +15,17 @@
 #include <fretsim/coupling/periodicity.h>
 #include <fretsim/models/model_source.h>
 #include <fretsim/models/reduction.h>
+#include <fretsim/models/ring_stress.h>
 #include <fretsim/reduction/reduced_model.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <limits>
+#include <memory>
 #include <optional>
 
 namespace fretsim::scenes
@@ -76,6 +79,8 @@ namespace fretsim::scenes
     std::string                    stage_predictor = "cutoff order";       ///< Integrator/Stage predictor
     int                            samples_per_ball_pass = 40;
     coupling::CageKinematics       kinematics; ///< of Loading/Inner ring speed
+    /// The ring's full-FE stress tables; none: half-space stresses.
+    std::optional<models::RingStressSource> ring_stress;
     contact::StressEvaluatorSettings stress_evaluator;
     std::vector<double>              depth_layers;
     contact::DangVanConstants      dang_van_constants;
@@ -261,8 +266,25 @@ namespace fretsim::scenes
       return {
         Spec::integer_range("Output/Samples per ball pass", "40",
                             "Output times (fields, stresses, Dang Van steps) per ball pass period [-].", 4, 10000),
+        Spec::selection("Stresses/Ring stresses", "full FE",
+                        "The ring's stresses on the depth layers: full FE, the ring's own finite-element stresses of "
+                        "the interface tractions and the balls' raceway loads, its bending between the balls "
+                        "included (influence tables built once per ring, mesh and depth layers, and kept beside the "
+                        "ring's model file); half-space, the interface tractions' stresses on an elastic half-space "
+                        "(the paper's; it leaves out the ring's structural stress, docs/fe_reference.md) [-].",
+                        "full FE|half-space"),
+        text("Stresses/Ring mesh", "360x3x6x2",
+             "Full FE ring stresses: the ring's mesh as 'around x radial x axial x axial land' cells (the "
+             "element degree of the ring's reduction configuration), radially graded toward the interface. "
+             "As many cells around as the interface grid has columns, or a divisor of them, keeps the tables "
+             "small [-]."),
+        Spec::real_range("Stresses/Ring mesh radial grading", "4",
+                         "Full FE ring stresses: the thickest radial cell over the thinnest, the thinnest at the "
+                         "interface [-].",
+                         1.0, 100.0),
         Spec::selection("Stresses/Evaluator", "fft",
-                        "Subsurface stresses of the interface tractions on the half-space: fft (DC-FFT), mlmi, direct.",
+                        "Half-space ring stresses: the evaluator of the interface tractions' subsurface stresses: "
+                        "fft (DC-FFT), mlmi, direct.",
                         "fft|mlmi|direct"),
         fft_plans_parameter("Stresses/FFT plans"),
         increasing(list(Spec::non_negative("Stresses/Depth layers", "0, 1e-4, 5e-4",
@@ -332,122 +354,115 @@ namespace fretsim::scenes
     return specs;
   }
 
-  BearingHousingScene::BearingHousingScene(app::SceneParameters p)
-    : parameters(std::move(p))
-    , settings(std::make_unique<Settings>())
+  namespace
   {
-    auto      &s    = *settings;
-    const auto &par = parameters;
-    namespace fs    = std::filesystem;
-    s.ring_model  = models::ring_model_source(par);
-    s.build_model = par.get_bool("Model/Build if missing");
+    using Settings = BearingHousingScene::Settings;
+    using Material = contact::ElasticMaterial;
 
-    // The ring's geometry and material come from the reduction configuration.
-    const auto ring_parameters = models::read_ring_housing_parameters(s.ring_model.config, {});
-    const auto body            = models::read_ring_housing_request(ring_parameters);
-    if (!body.ring.has_groove())
-      par.reject("Model/Reduction configuration", "the ring in '" + s.ring_model.config +
-                                                    "' has no raceway groove; a ball bearing needs one");
-    const auto elastic = [](const fem::Material &m) { return contact::ElasticMaterial{m.youngs_modulus, m.poisson_ratio}; };
-    const bool completion = par.get_bool("Interface/Half-space completion");
-    if (!par.get("Model/Housing reduction configuration").empty())
-      {
-        s.housing_model = models::housing_model_source(par);
-        const auto housing = models::read_housing_around(s.housing_model->config, body.ring, par.file(),
-                                                      "Model/Housing reduction configuration");
-        if (completion)
-          s.housing_completion_modulus = elastic(housing.request.materials.at(fem::MaterialId::housing)).plane_modulus();
-      }
+    Material elastic(const fem::Material &m) { return Material{m.youngs_modulus, m.poisson_ratio}; }
 
-    auto &b                   = s.run.bearing;
-    b.ball_count              = static_cast<unsigned int>(par.get_integer("Bearing/Ball count"));
-    b.ball_diameter           = par.get_double("Bearing/Ball diameter");
-    b.pitch_diameter          = 2.0 * body.ring.groove_bottom_radius - b.ball_diameter;
-    b.outer_groove_conformity = body.ring.groove_radius / b.ball_diameter;
-    b.inner_groove_conformity = par.get_double("Bearing/Inner groove conformity");
-    b.radial_clearance        = par.get_double("Bearing/Radial clearance");
-    if (!(b.outer_groove_conformity > 0.5))
-      par.reject("Bearing/Ball diameter", "the ring's groove radius must exceed half the ball diameter");
-    if (!(b.pitch_diameter > b.ball_diameter))
-      par.reject("Bearing/Ball diameter", "too large for the ring's groove bottom radius");
-    const auto ring_material = elastic(body.materials.at(fem::MaterialId::ring));
-    s.ring_poisson_ratio     = ring_material.poisson_ratio;
-    const double contact_modulus =
-      contact::MaterialPair{ring_material,
-                            {par.get_double("Bearing/Young's modulus"), par.get_double("Bearing/Poisson ratio")}}
-        .contact_modulus();
-    try
-      {
-        s.run.ball_stiffness = coupling::ball_contact_stiffness(b, contact_modulus).combined;
-      }
-    catch (const std::invalid_argument &error)
-      {
-        par.reject("Bearing/Ball diameter", error.what());
-      }
-    s.run.ball_damping = par.get_double("Bearing/Contact damping");
-
-    s.run.inner_ring_speed     = par.get_double("Loading/Inner ring speed") * 2.0 * M_PI / 60.0;
-    s.run.inner_displacement_x = par.get_double("Loading/Inner ring displacement x");
-    s.run.inner_displacement_y = par.get_double("Loading/Inner ring displacement y");
-    s.run.ramp_time            = par.get_double("Loading/Ramp time");
-    s.run.first_ball_angle     = par.get_double("Loading/First ball angle");
-    if (!(s.run.inner_ring_speed > 0.0))
-      par.reject("Loading/Inner ring speed", "must be > 0: the balls must pass");
-    s.kinematics               = coupling::cage_kinematics(b, s.run.inner_ring_speed);
-    s.samples_per_ball_pass    = static_cast<int>(par.get_integer("Output/Samples per ball pass"));
-    s.run.output_interval      = 1.0 / (s.kinematics.ball_pass_frequency * s.samples_per_ball_pass);
-    s.run.duration = std::round(par.get_double("Loading/Ball pass periods") * s.samples_per_ball_pass) * s.run.output_interval;
-
-    auto &interface                = s.run.interface;
-    interface.friction_coefficient = par.get_double("Interface/Friction coefficient");
-    interface.normal_stiffness     = par.get_double("Interface/Normal stiffness");
-    interface.tangential_stiffness = par.get_double("Interface/Tangential stiffness");
-    interface.normal_damping_time  = par.get_double("Interface/Damping time");
-    interface.radial_interference  = par.get_double("Interface/Radial interference");
-    interface.onset_pressure       = par.get_double("Interface/Onset pressure");
-    s.in_step_bristle_law          = par.get("Interface/In-step bristle law");
-    interface.in_step_bristle_law  = s.in_step_bristle_law == "implicit Euler"
-                                       ? coupling::InStepBristleLaw::implicit_euler
-                                       : coupling::InStepBristleLaw::linearised;
-    s.local_compliance = par.get("Interface/Local compliance");
-    if (const std::string local = s.local_compliance; local != "none")
-      {
-        if (s.housing_model)
-          par.reject("Interface/Local compliance",
-                     "none with a flexible housing (Model/Housing reduction configuration): its reduced model "
-                     "carries its compliance");
-        const contact::ElasticMaterial housing{par.get_double("Interface/Housing Young's modulus"),
-                                               par.get_double("Interface/Housing Poisson ratio")};
-        interface.local_compliance_modulus =
-          local == "both" ? contact::MaterialPair{ring_material, housing}.contact_modulus() : housing.plane_modulus();
-      }
-    s.ring_residual = par.get_bool("Interface/Ring residual flexibility");
-    if (s.ring_residual && s.local_compliance == "both")
-      par.reject("Interface/Ring residual flexibility",
-                 "false with Local compliance = both: the ring's half-space and its residual flexibility stand for "
-                 "the same local compliance");
-    s.housing_residual = par.get_bool("Interface/Housing residual flexibility");
-    s.run.pressure_residual_at_balls = s.ring_residual && par.get_bool("Interface/Residual flexibility at the balls");
-    if (completion)
-      {
-        s.ring_completion_modulus = ring_material.plane_modulus();
-        const double wavelength   = par.get_double("Interface/Half-space completion wavelength");
-        interface.half_space_completion_wavelength =
-          wavelength > 0.0 ? wavelength : body.ring.outer_radius - body.ring.groove_bottom_radius;
-      }
-    s.run.damping_ratio            = par.get_double("Ring/Damping ratio");
-
-    auto &integrator                  = s.run.integrator;
-    integrator.order                  = static_cast<int>(par.get_integer("Integrator/Order"));
-    integrator.relative_tolerance     = par.get_double("Integrator/Relative tolerance");
-    integrator.displacement_tolerance = par.get_double("Integrator/Displacement tolerance");
-    integrator.maximum_step           = par.get_double("Integrator/Maximum step");
-    integrator.maximum_steps          = par.get_integer("Integrator/Maximum steps per output");
-    integrator.maximum_newton_iterations = static_cast<int>(par.get_integer("Integrator/Maximum Newton iterations"));
-    integrator.newton_tolerance          = par.get_double("Integrator/Newton tolerance");
-    integrator.maximum_newton_failures   = static_cast<int>(par.get_integer("Integrator/Maximum Newton failures per step"));
-    integrator.jacobian_interval         = par.get_integer("Integrator/Jacobian interval");
+    /// The bearing's geometry from the ring's groove and Bearing/..., and the balls' contact stiffness.
+    void read_bearing(Settings &s, const app::SceneParameters &par, const models::RingHousingRequest &body)
     {
+      auto &b                   = s.run.bearing;
+      b.ball_count              = static_cast<unsigned int>(par.get_integer("Bearing/Ball count"));
+      b.ball_diameter           = par.get_double("Bearing/Ball diameter");
+      b.pitch_diameter          = 2.0 * body.ring.groove_bottom_radius - b.ball_diameter;
+      b.outer_groove_conformity = body.ring.groove_radius / b.ball_diameter;
+      b.inner_groove_conformity = par.get_double("Bearing/Inner groove conformity");
+      b.radial_clearance        = par.get_double("Bearing/Radial clearance");
+      if (!(b.outer_groove_conformity > 0.5))
+        par.reject("Bearing/Ball diameter", "the ring's groove radius must exceed half the ball diameter");
+      if (!(b.pitch_diameter > b.ball_diameter))
+        par.reject("Bearing/Ball diameter", "too large for the ring's groove bottom radius");
+      const Material ring = elastic(body.materials.at(fem::MaterialId::ring));
+      const double   contact_modulus =
+        contact::MaterialPair{ring, {par.get_double("Bearing/Young's modulus"), par.get_double("Bearing/Poisson ratio")}}
+          .contact_modulus();
+      try
+        {
+          s.run.ball_stiffness = coupling::ball_contact_stiffness(b, contact_modulus).combined;
+        }
+      catch (const std::invalid_argument &error)
+        {
+          par.reject("Bearing/Ball diameter", error.what());
+        }
+      s.run.ball_damping = par.get_double("Bearing/Contact damping");
+    }
+
+    /// The inner ring's motion, the output times and the run's length.
+    void read_loading(Settings &s, const app::SceneParameters &par)
+    {
+      s.run.inner_ring_speed     = par.get_double("Loading/Inner ring speed") * 2.0 * M_PI / 60.0;
+      s.run.inner_displacement_x = par.get_double("Loading/Inner ring displacement x");
+      s.run.inner_displacement_y = par.get_double("Loading/Inner ring displacement y");
+      s.run.ramp_time            = par.get_double("Loading/Ramp time");
+      s.run.first_ball_angle     = par.get_double("Loading/First ball angle");
+      if (!(s.run.inner_ring_speed > 0.0))
+        par.reject("Loading/Inner ring speed", "must be > 0: the balls must pass");
+      s.kinematics            = coupling::cage_kinematics(s.run.bearing, s.run.inner_ring_speed);
+      s.samples_per_ball_pass = static_cast<int>(par.get_integer("Output/Samples per ball pass"));
+      s.run.output_interval   = 1.0 / (s.kinematics.ball_pass_frequency * s.samples_per_ball_pass);
+      s.run.duration =
+        std::round(par.get_double("Loading/Ball pass periods") * s.samples_per_ball_pass) * s.run.output_interval;
+    }
+
+    /// The interface law, its local compliance and the residual flexibilities.
+    void read_interface(Settings &s, const app::SceneParameters &par, const Material &ring_material,
+                        double ring_wall)
+    {
+      auto &interface                = s.run.interface;
+      interface.friction_coefficient = par.get_double("Interface/Friction coefficient");
+      interface.normal_stiffness     = par.get_double("Interface/Normal stiffness");
+      interface.tangential_stiffness = par.get_double("Interface/Tangential stiffness");
+      interface.normal_damping_time  = par.get_double("Interface/Damping time");
+      interface.radial_interference  = par.get_double("Interface/Radial interference");
+      interface.onset_pressure       = par.get_double("Interface/Onset pressure");
+      s.in_step_bristle_law          = par.get("Interface/In-step bristle law");
+      interface.in_step_bristle_law  = s.in_step_bristle_law == "implicit Euler"
+                                         ? coupling::InStepBristleLaw::implicit_euler
+                                         : coupling::InStepBristleLaw::linearised;
+      s.local_compliance = par.get("Interface/Local compliance");
+      if (const std::string local = s.local_compliance; local != "none")
+        {
+          if (s.housing_model)
+            par.reject("Interface/Local compliance",
+                       "none with a flexible housing (Model/Housing reduction configuration): its reduced model "
+                       "carries its compliance");
+          const Material housing{par.get_double("Interface/Housing Young's modulus"),
+                                 par.get_double("Interface/Housing Poisson ratio")};
+          interface.local_compliance_modulus =
+            local == "both" ? contact::MaterialPair{ring_material, housing}.contact_modulus() : housing.plane_modulus();
+        }
+      s.ring_residual = par.get_bool("Interface/Ring residual flexibility");
+      if (s.ring_residual && s.local_compliance == "both")
+        par.reject("Interface/Ring residual flexibility",
+                   "false with Local compliance = both: the ring's half-space and its residual flexibility stand for "
+                   "the same local compliance");
+      s.housing_residual               = par.get_bool("Interface/Housing residual flexibility");
+      s.run.pressure_residual_at_balls = s.ring_residual && par.get_bool("Interface/Residual flexibility at the balls");
+      if (par.get_bool("Interface/Half-space completion"))
+        {
+          s.ring_completion_modulus = ring_material.plane_modulus();
+          const double wavelength   = par.get_double("Interface/Half-space completion wavelength");
+          interface.half_space_completion_wavelength = wavelength > 0.0 ? wavelength : ring_wall;
+        }
+      s.run.damping_ratio = par.get_double("Ring/Damping ratio");
+    }
+
+    void read_integrator(Settings &s, const app::SceneParameters &par)
+    {
+      auto &integrator                     = s.run.integrator;
+      integrator.order                     = static_cast<int>(par.get_integer("Integrator/Order"));
+      integrator.relative_tolerance        = par.get_double("Integrator/Relative tolerance");
+      integrator.displacement_tolerance    = par.get_double("Integrator/Displacement tolerance");
+      integrator.maximum_step              = par.get_double("Integrator/Maximum step");
+      integrator.maximum_steps             = par.get_integer("Integrator/Maximum steps per output");
+      integrator.maximum_newton_iterations = static_cast<int>(par.get_integer("Integrator/Maximum Newton iterations"));
+      integrator.newton_tolerance          = par.get_double("Integrator/Newton tolerance");
+      integrator.maximum_newton_failures =
+        static_cast<int>(par.get_integer("Integrator/Maximum Newton failures per step"));
+      integrator.jacobian_interval = par.get_integer("Integrator/Jacobian interval");
       const std::string &predictor = s.stage_predictor = par.get("Integrator/Stage predictor");
       integrator.predictor = predictor == "trivial"          ? coupling::StagePredictor::trivial
                              : predictor == "maximum order"  ? coupling::StagePredictor::maximum_order
@@ -455,23 +470,59 @@ namespace fretsim::scenes
                                                              : coupling::StagePredictor::cutoff_order;
     }
 
-    s.stress_evaluator.method = par.get("Stresses/Evaluator");
-    s.stress_evaluator.measure_fft_plans = par.get("Stresses/FFT plans") == "measure";
-    s.depth_layers            = par.get_double_list("Stresses/Depth layers");
-    if (s.depth_layers.empty())
-      par.reject("Stresses/Depth layers", "expected at least one depth z >= 0 [m]");
-    try
+    /// The ring's stress model, its depth layers and Dang Van.
+    void read_stresses_and_risk(Settings &s, const app::SceneParameters &par)
+    {
+      s.stress_evaluator.method            = par.get("Stresses/Evaluator");
+      s.stress_evaluator.measure_fft_plans = par.get("Stresses/FFT plans") == "measure";
+      s.depth_layers                       = par.get_double_list("Stresses/Depth layers");
+      if (s.depth_layers.empty())
+        par.reject("Stresses/Depth layers", "expected at least one depth z >= 0 [m]");
+      if (par.get("Stresses/Ring stresses") == "full FE")
+        s.ring_stress = models::ring_stress_source(par, s.ring_model, s.depth_layers);
+      try
+        {
+          s.dang_van_constants = contact::DangVanConstants::from_fatigue_limits(
+            par.get_double("Dang Van/Bending fatigue limit"), par.get_double("Dang Van/Torsion fatigue limit"));
+        }
+      catch (const std::invalid_argument &error)
+        {
+          par.reject("Dang Van/Torsion fatigue limit", error.what());
+        }
+      s.dang_van.centre          = contact::parse_residual_stress_centre(par.get("Dang Van/Residual stress"));
+      s.dang_van.steps_per_cycle = s.samples_per_ball_pass;
+      s.dang_van.warmup_cycles   = static_cast<int>(par.get_integer("Dang Van/Warm-up cycles"));
+    }
+  } // namespace
+
+  BearingHousingScene::BearingHousingScene(app::SceneParameters p)
+    : parameters(std::move(p))
+    , settings(std::make_unique<Settings>())
+  {
+    auto       &s    = *settings;
+    const auto &par  = parameters;
+    s.ring_model     = models::ring_model_source(par);
+    s.build_model    = par.get_bool("Model/Build if missing");
+    // The ring's geometry and material come from the reduction configuration.
+    const auto body = models::read_ring_housing_request(models::read_ring_housing_parameters(s.ring_model.config, {}));
+    if (!body.ring.has_groove())
+      par.reject("Model/Reduction configuration", "the ring in '" + s.ring_model.config +
+                                                    "' has no raceway groove; a ball bearing needs one");
+    if (!par.get("Model/Housing reduction configuration").empty())
       {
-        s.dang_van_constants = contact::DangVanConstants::from_fatigue_limits(
-          par.get_double("Dang Van/Bending fatigue limit"), par.get_double("Dang Van/Torsion fatigue limit"));
+        s.housing_model    = models::housing_model_source(par);
+        const auto housing = models::read_housing_around(s.housing_model->config, body.ring, par.file(),
+                                                         "Model/Housing reduction configuration");
+        if (par.get_bool("Interface/Half-space completion"))
+          s.housing_completion_modulus = elastic(housing.request.materials.at(fem::MaterialId::housing)).plane_modulus();
       }
-    catch (const std::invalid_argument &error)
-      {
-        par.reject("Dang Van/Torsion fatigue limit", error.what());
-      }
-    s.dang_van.centre          = contact::parse_residual_stress_centre(par.get("Dang Van/Residual stress"));
-    s.dang_van.steps_per_cycle = s.samples_per_ball_pass;
-    s.dang_van.warmup_cycles   = static_cast<int>(par.get_integer("Dang Van/Warm-up cycles"));
+    read_bearing(s, par, body);
+    read_loading(s, par);
+    const Material ring_material = elastic(body.materials.at(fem::MaterialId::ring));
+    s.ring_poisson_ratio         = ring_material.poisson_ratio;
+    read_interface(s, par, ring_material, body.ring.outer_radius - body.ring.groove_bottom_radius);
+    read_integrator(s, par);
+    read_stresses_and_risk(s, par);
   }
 
   BearingHousingScene::~BearingHousingScene() = default;
@@ -536,6 +587,7 @@ namespace fretsim::scenes
     {
       coupling::ReducedRing ring;
       std::string           input_hash;
+      std::optional<models::RingStressTable> ring_stress; ///< full FE ring stresses
     };
 
     /// Reads the reduced models (or builds them when missing or stale) and
@@ -543,8 +595,10 @@ namespace fretsim::scenes
     LoadedRing load_ring(const Settings &s, const app::SceneParameters &parameters, models::ModelLoader &loader)
     {
       const reduction::ReducedModel model = loader.load(s.ring_model, parameters);
-      LoadedRing                    loaded{reduced_ring(model), model.input_hash};
+      LoadedRing                    loaded{reduced_ring(model), model.input_hash, std::nullopt};
       auto                         &ring = loaded.ring;
+      if (s.ring_stress)
+        loaded.ring_stress.emplace(loader.load_ring_stress(*s.ring_stress, model, parameters));
       if (s.ring_residual)
         {
           if (model.residual.empty())
@@ -618,6 +672,7 @@ namespace fretsim::scenes
       if (s.housing_model)
         results->set_root_attribute("housing_model_file", s.housing_model->file);
       results->set_root_attribute("model_input_hash", loaded.input_hash);
+      results->set_root_attribute("ring_stresses", s.ring_stress ? "full FE" : "half-space");
       results->set_root_attribute("stress_components",
                                   "xx (circumferential), yy (axial), zz (radial, depth into the ring), yz, xz, xy; "
                                   "tension positive, in the outer ring");
@@ -649,12 +704,42 @@ namespace fretsim::scenes
       double lower_half_pressure = 0.0, peak_pressure = 0.0, peak_ball_load = 0.0; ///< [Pa], [Pa], [N]
     };
 
+    /// The ring's stresses on the run's depth layers at an output time.
+    using StressModel = std::function<void(const coupling::Snapshot &, contact::StressField &)>;
+
+    /// The full-FE ring's stresses of the tractions and the balls, or the
+    /// tractions' stresses on a half-space. Throws InputError for an evaluator
+    /// that cannot work on the grid.
+    StressModel stress_model(const Settings &s, const LoadedRing &loaded, const app::SceneParameters &parameters)
+    {
+      const contact::SurfaceGrid &grid = loaded.ring.interface_grid;
+      if (loaded.ring_stress)
+        return [&table = *loaded.ring_stress, grid, layers = static_cast<int>(s.depth_layers.size())](
+                 const coupling::Snapshot &snap, contact::StressField &field) {
+          field.resize(layers, grid.ny, grid.nx);
+          table.evaluate(snap.ball_angles, snap.ball_loads, *snap.pressure, *snap.shear_x, *snap.shear_y,
+                         field.values);
+        };
+      std::shared_ptr<contact::SubsurfaceStress> half_space;
+      try
+        {
+          half_space = contact::make_subsurface_stress(grid, s.depth_layers, s.ring_poisson_ratio, s.stress_evaluator);
+        }
+      catch (const std::invalid_argument &error)
+        {
+          parameters.reject("Stresses/Evaluator", error.what());
+        }
+      return [half_space](const coupling::Snapshot &snap, contact::StressField &field) {
+        half_space->evaluate(*snap.pressure, *snap.shear_x, *snap.shear_y, field);
+      };
+    }
+
     /// At every output time: stresses, Dang Van, a snapshot in results.h5,
     /// the record; false once an interruption is asked for.
     class OutputStep
     {
     public:
-      OutputStep(const Settings &s, const contact::SurfaceGrid &grid, contact::SubsurfaceStress &stresses,
+      OutputStep(const Settings &s, const contact::SurfaceGrid &grid, const StressModel &stresses,
                  contact::DangVanField &risk, output::ResultsFile &results, app::Progress &progress)
         : s(s)
         , grid(grid)
@@ -668,7 +753,7 @@ namespace fretsim::scenes
       bool operator()(const coupling::Snapshot &snap)
       {
         auto start = Clock::now();
-        stresses.evaluate(*snap.pressure, *snap.shear_x, *snap.shear_y, stress);
+        stresses(snap, stress);
         record.stress_seconds += seconds_since(start);
         start = Clock::now();
         risk.add_step(stress);
@@ -717,7 +802,7 @@ namespace fretsim::scenes
       const Settings             &s;
       const contact::SurfaceGrid &grid;
       const std::size_t           top_cell;
-      contact::SubsurfaceStress  &stresses;
+      const StressModel          &stresses;
       contact::DangVanField      &risk;
       output::ResultsFile        &results;
       app::Progress              &progress;
@@ -861,6 +946,26 @@ namespace fretsim::scenes
       summary.set("dang_van_cycles", static_cast<long long>(risk.complete_cycles()));
     }
 
+    /// Which stresses the risk sees and, for the full FE's, its tables.
+    void summarise_stresses(output::Summary &summary, const Settings &s, const LoadedRing &loaded)
+    {
+      summary.set("ring_stresses", std::string(s.ring_stress ? "full FE" : "half-space"));
+      if (!loaded.ring_stress)
+        return;
+      const auto         &t = loaded.ring_stress->tables();
+      const auto         &d = s.ring_stress->divisions;
+      output::Summary     tables;
+      tables.set("file", s.ring_stress->file);
+      tables.set("mesh", std::to_string(d.circumferential) + "x" + std::to_string(d.radial_ring) + "x" +
+                           std::to_string(d.axial) + "x" + std::to_string(d.axial_land));
+      tables.set("radial_grading", d.radial_grading);
+      tables.set("dofs", static_cast<long long>(t.dofs));
+      tables.set("period_columns", static_cast<long long>(t.period));
+      tables.set("solves", static_cast<long long>(t.solves));
+      tables.set("build_seconds", t.seconds);
+      summary.set_object("ring_stress_tables", tables);
+    }
+
     /// Where the wall time went, by stage, and per inner ring revolution.
     void summarise_times(output::Summary &summary, const Settings &s, const coupling::IntegratorStatistics &stats,
                          const RunRecord &record, double model_seconds, double run_seconds)
@@ -914,15 +1019,7 @@ namespace fretsim::scenes
     const auto  &grid          = ring.interface_grid;
 
     // 2. Stages that can fail on the model's data, before anything is written.
-    std::unique_ptr<contact::SubsurfaceStress> stresses;
-    try
-      {
-        stresses = contact::make_subsurface_stress(grid, s.depth_layers, s.ring_poisson_ratio, s.stress_evaluator);
-      }
-    catch (const std::invalid_argument &error)
-      {
-        parameters.reject("Stresses/Evaluator", error.what());
-      }
+    const StressModel             stresses = stress_model(s, loaded, parameters);
     coupling::BearingCosimulation simulation(ring, s.run);
     contact::DangVanField         risk(s.depth_layers.size() * grid.size(), s.dang_van_constants, s.dang_van);
 
@@ -935,7 +1032,7 @@ namespace fretsim::scenes
     // 4. The run: at every output time stresses, Dang Van, a snapshot.
     app::Progress progress("bearing_housing", std::lround(s.run.duration / s.run.output_interval) + 1,
                            options.progress);
-    OutputStep  output_step(s, grid, *stresses, risk, *results, progress);
+    OutputStep  output_step(s, grid, stresses, risk, *results, progress);
     const auto  integrate_start = Clock::now();
     std::string failure;
     try
@@ -984,6 +1081,7 @@ namespace fretsim::scenes
     summary.set("housing_coordinates", static_cast<long long>(ring.housing_coordinates));
     summary.set("interface_grid_cells", static_cast<long long>(grid.size()));
     summarise_interface(summary, s, ring, simulation);
+    summarise_stresses(summary, s, loaded);
     summary.set("ball_count", static_cast<long long>(s.run.bearing.ball_count));
     summary.set("pitch_diameter_m", s.run.bearing.pitch_diameter);
     summary.set("ball_contact_stiffness_N_per_m1.5", s.run.ball_stiffness);

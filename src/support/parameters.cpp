@@ -712,4 +712,31 @@ namespace fretsim::app
                      scene.empty() ? "missing; expected 'set Scene = " + names + "'" :
                                      "unknown scene '" + scene + "', expected one of: " + names);
   }
+  std::vector<long> parse_cell_counts(const std::string &text, std::size_t count)
+  {
+    std::string spaced = text;
+    std::replace(spaced.begin(), spaced.end(), 'x', ' ');
+    std::istringstream in(spaced);
+    std::vector<long>  counts;
+    std::string        word;
+    while (in >> word)
+      {
+        std::size_t used = 0;
+        long        value = 0;
+        try
+          {
+            value = std::stol(word, &used);
+          }
+        catch (const std::exception &)
+          {
+            return {};
+          }
+        if (used != word.size() || value < 1)
+          return {};
+        counts.push_back(value);
+      }
+    if (counts.size() != count || static_cast<std::size_t>(std::count(text.begin(), text.end(), 'x')) + 1 != count)
+      return {};
+    return counts;
+  }
 } // namespace fretsim::app

@@ -113,7 +113,9 @@ namespace fretsim::test_files
     "  set Interface grid circumferential cells = 72\n  set Interface grid axial cells = 4\n"
     "  set Sample points per line = 8\n  set Raceway ball positions = 0\nend\n";
 
-  /// A bearing_housing scene on small_ring (ring.prm in `dir`), its model in `dir`.
+  /// A bearing_housing scene on small_ring (ring.prm in `dir`), its model
+  /// and its ring stress tables (a mesh as many cells around as the grid has
+  /// columns, built on first use in seconds) in `dir`.
   inline std::string small_bearing_scene(const std::filesystem::path &dir, const std::string &extra = "")
   {
     return "set Scene = bearing_housing\n"
@@ -122,7 +124,7 @@ namespace fretsim::test_files
            "\nend\n"
            "subsection Loading\n  set Ball pass periods = 3.5\n  set Ramp time = 0.5e-3\nend\n"
            "subsection Output\n  set Samples per ball pass = 24\nend\n"
-           "subsection Stresses\n  set Depth layers = 0, 2e-4\nend\n" +
+           "subsection Stresses\n  set Depth layers = 0, 2e-4\n  set Ring mesh = 72x2x3x1\nend\n" +
            extra;
   }
 

@@ -46,7 +46,10 @@ TEST(BearingScene, RunsEndToEndAndTheInterfaceSeesTheBallPass)
   const auto result = run_program("run " + (dir / "scene.prm").string() + " -q --no-plots -o " + (dir / "out").string());
   ASSERT_EQ(result.exit_code, 0) << result.output;
   EXPECT_NE(result.output.find("building it"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("stress tables"), std::string::npos) << result.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "ring-stress-tables.h5"));
   const auto summary = read_text(dir / "out" / "summary.json");
+  EXPECT_NE(summary.find("\"ring_stresses\": \"full FE\""), std::string::npos);
   std::printf("%s\n", summary.c_str());
   // The ball pass seen in the pressure at the top of the interface
   // within 1 % of f_bp = Z f_i (1 - D_w/d_m) / 2. The scene samples a whole
@@ -102,6 +105,7 @@ TEST(BearingScene, RunsEndToEndAndTheInterfaceSeesTheBallPass)
                                  " --set 'Loading/Ball pass periods=0.25'");
   ASSERT_EQ(again.exit_code, 0) << again.output;
   EXPECT_EQ(again.output.find("building it"), std::string::npos) << again.output;
+  EXPECT_EQ(again.output.find("stress tables"), std::string::npos) << again.output;
 
   // The ring's interface basis set by the scene (the study of D_max against
   // n_cc, docs/bearing.md): a model of its own, built on first use into its own file,
@@ -114,6 +118,7 @@ TEST(BearingScene, RunsEndToEndAndTheInterfaceSeesTheBallPass)
   EXPECT_NE(other.output.find("--set 'Reduction/Characteristic constraint modes=20'"), std::string::npos)
     << other.output;
   EXPECT_TRUE(std::filesystem::exists(dir / "model-ncc20.h5"));
+  EXPECT_EQ(other.output.find("stress tables"), std::string::npos) << other.output; // the ring's, whatever its basis
   EXPECT_EQ(summary_number(read_text(dir / "out3" / "summary.json"), "reduced_coordinates"), 20.0 + 10.0);
   const auto original = run_program("run " + (dir / "scene.prm").string() + " -q --no-plots -o " +
                                     (dir / "out4").string() + " --set 'Loading/Ball pass periods=0.25'");

@@ -8,6 +8,8 @@
 #include <fretsim/fem/winkler_foundation.h>
 #include <fretsim/models/fe_reference.h>
 #include <fretsim/models/interface_influence.h>
+#include <fretsim/models/ring_stress.h>
+#include <fretsim/fem/surface_point_map.h>
 
 #include <algorithm>
 #include <cmath>
@@ -147,4 +149,71 @@ TEST(FeReference, FrictionKeepsCoulombAndBalancesTheRing)
           EXPECT_GT(slipping, 0);
         }
     }
+}
+
+// (c) The ring's stress tables (models/ring_stress.h) against the full FE
+// ring's own stresses under the same loads: three balls on column centres, a
+// shear along θ and along z (20 and 10 MPa × cos 2θ, no resultant), the
+// foundation's pressure that balances them (fem::WinklerFoundationSolver),
+// loads at the cell centres (s = 1), the stresses sampled on two depth
+// layers below every cell. Superposition of the tables is exact for the
+// linear body; what differs is the 1 Hz shifts and the solver's tolerance.
+TEST(FeReference, RingStressTablesGiveTheFullFeRingsStresses)
+{
+  const unsigned int around = 48; // the tables repeat every 3 columns: their shifts are exercised
+  SmallRing          ring(around);
+  fem::ElasticModel  fe(ring.mesh, {{fem::MaterialId::ring, steel}}, 1);
+  const models::RingStressTable table(models::interface_influence(fe, ring.grid, ring_request(around, 1)));
+
+  fem::ElasticModel        direct(ring.mesh, {{fem::MaterialId::ring, steel}}, 1);
+  const auto              &grid = ring.grid;
+  std::vector<double>      shear_x(grid.size()), shear_y(grid.size()), angles, forces;
+  std::vector<fem::Point3> centres;
+  fem::StaticLoad          load;
+  for (const auto &[column, force] : {std::pair{16, 1500.0}, {17, 3000.0}, {19, 2500.0}})
+    {
+      angles.push_back(grid.x(column) / grid.radius);
+      forces.push_back(force);
+      load.ball_loads.push_back(reduction_testing::raceway_ball_6208(angles.back(), force));
+    }
+  for (int j = 0; j < grid.ny; ++j)
+    for (int i = 0; i < grid.nx; ++i)
+      {
+        const double th = grid.x(i) / grid.radius;
+        shear_x[static_cast<std::size_t>(j) * grid.nx + i] = 20e6 * std::cos(2.0 * th);
+        shear_y[static_cast<std::size_t>(j) * grid.nx + i] = 10e6 * std::cos(2.0 * th);
+        centres.push_back({grid.radius * std::cos(th), grid.radius * std::sin(th), grid.y(j)});
+      }
+  const fem::SurfacePointMap points(direct, centres, fem::BoundaryId::ring_outer);
+  fem::PointForceLoad        shear{&points, {}};
+  for (std::size_t c = 0; c < centres.size(); ++c)
+    {
+      const double r = std::hypot(centres[c][0], centres[c][1]), cs = centres[c][0] / r, sn = centres[c][1] / r,
+                   a = grid.cell_area();
+      shear.forces.push_back({-a * shear_x[c] * sn, a * shear_x[c] * cs, a * shear_y[c]});
+    }
+  load.point_forces.push_back(std::move(shear));
+  const fem::SurfaceGridMap    map(direct, fem::BoundaryId::ring_outer, grid);
+  fem::WinklerFoundationSolver winkler(direct, map, {1e15, 0.0});
+  const auto                   full = winkler.solve(load);
+
+  const std::vector<double> depths{0.0, 2e-4};
+  const std::vector<double> expected =
+    models::InterfaceStressSampler(direct, grid, depths, true).evaluate(full.displacement); // [layer][cell][6]
+  std::vector<double> tabled;
+  table.evaluate(angles, forces, full.grid.pressure, shear_x, shear_y, tabled); // [layer][6][cell]
+  ASSERT_EQ(tabled.size(), depths.size() * 6 * grid.size());
+  double difference = 0.0, largest = 0.0;
+  for (std::size_t layer = 0; layer < depths.size(); ++layer)
+    for (std::size_t c = 0; c < grid.size(); ++c)
+      for (std::size_t k = 0; k < 6; ++k)
+        {
+          const double full_fe = expected[(layer * grid.size() + c) * 6 + k];
+          difference = std::max(difference, std::abs(tabled[(layer * 6 + k) * grid.size() + c] - full_fe));
+          largest    = std::max(largest, std::abs(full_fe));
+        }
+  std::printf("ring stress tables against the full FE ring: %.3g of the largest stress %.4g MPa\n",
+              difference / largest, largest / 1e6);
+  EXPECT_GT(largest, 1e7);
+  EXPECT_LT(difference / largest, 1e-4); // measured 3.4e-5
 }

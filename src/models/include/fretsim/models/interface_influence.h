@@ -19,6 +19,7 @@
 
 #include <array>
 #include <functional>
+#include <memory>
 #include <vector>
 
 namespace fretsim::models
@@ -55,6 +56,25 @@ namespace fretsim::models
       return ((((static_cast<std::size_t>(phase) * 3 + k) * grid.ny + jj) * layers() + layer) * cells() + cell) * 6 +
              c;
     }
+  };
+
+  /// The stresses below every cell centre of a grid on given depth layers
+  /// ([layer][cell][6] in the tables' contact frame), as the tables take
+  /// them: on a point that falls on an element face, the mean of the faces'
+  /// sides. Collective.
+  class InterfaceStressSampler
+  {
+  public:
+    /// `ring`: depth into a ring from its outer surface; else outward from a bore.
+    InterfaceStressSampler(const fem::ElasticModel &model, const fem::CylinderGrid &grid,
+                           const std::vector<double> &depths, bool ring);
+    ~InterfaceStressSampler();
+    std::vector<double> evaluate(const fem::DisplacementField &u) const;
+
+  private:
+    static constexpr std::size_t samples_per_point = 8;
+    struct Impl;
+    std::unique_ptr<Impl> impl;
   };
 
   /// How a body is held for its tables.

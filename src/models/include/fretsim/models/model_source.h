@@ -4,6 +4,8 @@
 // from other inputs.
 #include <fretsim/support/parameters.h>
 
+#include <fretsim/models/interface_influence.h>
+#include <fretsim/models/ring_stress.h>
 #include <fretsim/reduction/reduced_model.h>
 
 #include <memory>
@@ -38,6 +40,12 @@ namespace fretsim::models
   /// Throws app::InputError if the configuration is missing or cannot be read.
   ModelSource ring_model_source(const app::SceneParameters &scene);
   ModelSource housing_model_source(const app::SceneParameters &scene);
+  /// The ring's full-FE stress tables of a bearing_housing scene (Stresses/Ring
+  /// mesh, Stresses/Ring mesh radial grading, its depth layers), kept beside
+  /// the ring's model file as <reduction configuration name>-stress-tables.h5.
+  /// Throws app::InputError for a malformed mesh.
+  RingStressSource ring_stress_source(const app::SceneParameters &scene, const ModelSource &ring,
+                                      const std::vector<double> &depths);
 
   /// Reads model files, building a missing or stale one first when allowed.
   /// MPI starts on the first build and runs until finish() (it starts only
@@ -51,6 +59,11 @@ namespace fretsim::models
     /// The model of `source`; a file that cannot be used and may not be
     /// built is an app::InputError of `scene`'s source.file_parameter.
     reduction::ReducedModel load(const ModelSource &source, const app::SceneParameters &scene);
+    /// The ring's stress tables of `source` on `ring`'s grid and raceway
+    /// footprint, read or built (collectively under MPI; the file written
+    /// by rank 0). Not allowed to build: an app::InputError of Stresses/Ring mesh.
+    InterfaceInfluence load_ring_stress(const RingStressSource &source, const reduction::ReducedModel &ring,
+                                        const app::SceneParameters &scene);
     /// Whether load() built a model file.
     bool built() const { return built_any; }
     /// Stops MPI if a build started it: the run after the models needs none.

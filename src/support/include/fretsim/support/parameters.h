@@ -48,6 +48,11 @@ namespace fretsim::app
                                    const std::string &options);
   };
 
+  /// `count` whole numbers >= 1 joined by 'x' ("360x3x6x2", blanks around
+  /// the text allowed), as a mesh's cell counts are given; empty if the text
+  /// is anything else.
+  std::vector<long> parse_cell_counts(const std::string &text, std::size_t count);
+
   /// The parameters of one scene, declared from its table and read from a file.
   class SceneParameters
   {

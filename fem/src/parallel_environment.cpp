@@ -40,4 +40,9 @@ namespace fretsim::fem
 
   unsigned int ParallelEnvironment::n_ranks() { return dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD); }
   unsigned int ParallelEnvironment::rank() { return dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD); }
+  void         ParallelEnvironment::barrier()
+  {
+    if (active())
+      MPI_Barrier(MPI_COMM_WORLD);
+  }
 } // namespace fretsim::fem

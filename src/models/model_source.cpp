@@ -123,6 +123,7 @@ namespace fretsim::models
         if (!fem::ParallelEnvironment::active())
           mpi = std::make_unique<fem::ParallelEnvironment>();
         write_reduced_model(reduce, std::cerr);
+        fem::ParallelEnvironment::barrier(); // rank 0 wrote the file the others read next
         built_any = true;
         return reduction::read_model_file(source.file, source.expected_hash);
       }
@@ -159,6 +160,7 @@ namespace fretsim::models
           std::filesystem::create_directories(parent);
         write_ring_stress_file(source.file, tables, source.expected_hash);
       }
+    fem::ParallelEnvironment::barrier(); // the file is there before any rank's run reads it
     built_any = true;
     return tables;
   }

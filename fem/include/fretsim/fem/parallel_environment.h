@@ -23,6 +23,9 @@ namespace fretsim::fem
     /// Ranks in MPI_COMM_WORLD and this process's rank.
     static unsigned int n_ranks();
     static unsigned int rank();
+    /// Waits for every rank (e.g. until rank 0 has written a file the
+    /// others read next); nothing without MPI running.
+    static void barrier();
 
   private:
     struct Impl;

@@ -26,6 +26,7 @@
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <numeric>
 #include <optional>
 
 namespace fretsim::scenes
@@ -1127,12 +1128,28 @@ namespace fretsim::scenes
     // layer the stress evaluator, stress fields and Dang Van state (~900 B,
     // as the concentrated scene); the pressure history (one field per
     // output); the process, reduced model and integrator ~300 MB.
+    // The full-FE ring stresses: per layer the tables (three traction
+    // components on each cell of P columns' rows, six stresses at every
+    // cell) and their convolution kernel (6 n_y rows square, per wavenumber).
+    double stress_tables = 0.0;
+    if (par.get("Stresses/Ring stresses") == "full FE")
+      {
+        const auto   reduction = models::read_ring_housing_parameters(models::ring_model_source(par).config, {});
+        const long   nx        = reduction.get_integer("Reduction/Interface grid circumferential cells");
+        const double ny        = double(reduction.get_integer("Reduction/Interface grid axial cells"));
+        const auto   counts    = app::parse_cell_counts(par.get("Stresses/Ring mesh"), 4);
+        const double period    = counts.empty() ? double(nx) : double(nx / std::gcd(nx, counts[0]));
+        stress_tables = layers * (period * 3.0 * ny * cells * 6.0 * 8.0 +
+                                  std::pow(6.0 * ny * period, 2) * (double(nx) / period / 2.0 + 1.0) * 16.0);
+      }
     ResourceEstimate estimate;
-    estimate.memory_bytes = 300e6 + 24.0 * dense_cells + cells * (600.0 + 900.0 * layers + 8.0 * samples);
+    estimate.memory_bytes =
+      300e6 + 24.0 * dense_cells + cells * (600.0 + 900.0 * layers + 8.0 * samples) + stress_tables;
     estimate.memory_basis = "the interface grid of " + std::to_string(long(cells)) +
                             " cells (Reduction/Interface grid ... cells of Model/Reduction configuration) on " +
                             std::to_string(long(layers)) + " Stresses/Depth layers" +
-                            (dense_cells > 0.0 ? ", with its residual flexibility (a dense cells × cells matrix)" : "");
+                            (dense_cells > 0.0 ? ", with its residual flexibility (a dense cells × cells matrix)" : "") +
+                            (stress_tables > 0.0 ? ", the ring's stress tables" : "");
     // Per output: 4 interface fields, the risk and six stress components on
     // every layer, balls and modes.
     const double sample_bytes = 8.0 * cells * (4.0 + 7.0 * layers) + 8.0 * 1000.0;

@@ -608,6 +608,148 @@ namespace fretsim::contact
       }
   }
 
+  namespace
+  {
+    /// What a step of the criterion needs besides the stresses: the state
+    /// arrays ([5][points] for the mean and centre) and the step's constants.
+    struct StepContext
+    {
+      double       *mean = nullptr;
+      const double *centre = nullptr; ///< after the mean's update: the mean itself or the last cycle's
+      double       *path_row = nullptr;
+      bool          update_mean = false, count_maximum = false;
+      double        inverse = 0.0, alpha = 0.0, beta = 0.0;
+      std::int64_t  step = 0;
+      std::size_t   points = 0;
+      double       *now = nullptr; ///< D(t) written here, and the infinite ones counted, if set
+      double       *peak = nullptr;
+      std::int64_t *peak_step = nullptr;
+    };
+
+// The step's vector loops in AVX2 where the processor has it, chosen when
+// the program loads: twice the lanes of the baseline's SSE2, and the same
+// IEEE operations (AVX2 alone allows no fused multiply-add), so the same
+// digits on every processor.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+#define FRETSIM_WIDE_VECTORS __attribute__((target_clones("avx2", "default")))
+#else
+#define FRETSIM_WIDE_VECTORS
+#endif
+
+    /// One step of `count` points of a block from point p0 on, the six
+    /// components in component[c][k]. A branch-free pass over the block
+    /// (deviator, mean, Lode invariant, Newton's Tresca) that the compiler
+    /// vectorises, then the few near-repeated principal values by Jacobi.
+    /// Each point's arithmetic is the same whatever block or step batch it
+    /// is in.
+    FRETSIM_WIDE_VECTORS
+    void block_step(const StepContext &x, const double *const *component, std::size_t count, std::size_t p0,
+                    std::size_t &infinite)
+    {
+      constexpr std::size_t block = DangVanField::block_size;
+      alignas(64) double u[dim][block], w[dim][block];
+      alignas(64) double norm[block], lode[block], tresca[block], denominator[block];
+      const double alpha = x.alpha, beta = x.beta, inverse = x.inverse;
+      // The loops below keep to scalars (no local arrays), which the
+      // compiler vectorises; the arithmetic is that of coordinates() and
+      // unit_deviator(), operation for operation.
+      const double *sxx = component[xx], *syy = component[yy], *szz = component[zz];
+      const double *syz = component[yz], *sxz = component[xz], *sxy = component[xy];
+#pragma omp simd
+      for (std::size_t k = 0; k < count; ++k)
+        {
+          u[0][k]        = (2.0 * szz[k] - sxx[k] - syy[k]) * inverse_sqrt6;
+          u[1][k]        = (sxx[k] - syy[k]) * inverse_sqrt2;
+          u[2][k]        = sqrt2 * syz[k];
+          u[3][k]        = sqrt2 * sxz[k];
+          u[4][k]        = sqrt2 * sxy[k];
+          denominator[k] = beta - alpha * ((sxx[k] + syy[k] + szz[k]) * third);
+        }
+      if (x.update_mean)
+        for (int d = 0; d < dim; ++d)
+          {
+            double *md = x.mean + d * x.points + p0;
+#pragma omp simd
+            for (std::size_t k = 0; k < count; ++k)
+              md[k] += (u[d][k] - md[k]) * inverse; // paper eq. 5
+          }
+      if (x.path_row)
+        for (std::size_t k = 0; k < count; ++k)
+          for (int d = 0; d < dim; ++d)
+            x.path_row[dim * (p0 + k) + d] = u[d][k];
+      for (int d = 0; d < dim; ++d)
+        {
+          const double *cd = x.centre + d * x.points + p0;
+#pragma omp simd
+          for (std::size_t k = 0; k < count; ++k)
+            w[d][k] = u[d][k] - cd[k];
+        }
+#pragma omp simd
+      for (std::size_t k = 0; k < count; ++k)
+        {
+          // The Lode invariant as unit_deviator computes it.
+          const double w0 = w[0][k], w1 = w[1][k], w2 = w[2][k], w3 = w[3][k], w4 = w[4][k];
+          const double r     = std::sqrt(w0 * w0 + w1 * w1 + w2 * w2 + w3 * w3 + w4 * w4);
+          const double scale = 1.0 / r;
+          const double a0 = w0 * scale, a1 = w1 * scale, a2 = w2 * scale, a3 = w3 * scale, a4 = w4 * scale;
+          const double d2 = 2.0 * a0 * inverse_sqrt6;
+          const double d0 = -a0 * inverse_sqrt6 + a1 * inverse_sqrt2;
+          const double d1 = -a0 * inverse_sqrt6 - a1 * inverse_sqrt2;
+          const double o0 = a2 * inverse_sqrt2, o1 = a3 * inverse_sqrt2, o2 = a4 * inverse_sqrt2;
+          const double det = d0 * (d1 * d2 - o0 * o0) - o2 * (o2 * d2 - o0 * o1) + o1 * (o2 * o0 - d1 * o1);
+          double       lx  = 3.0 * sqrt6 * det;
+          lx               = lx < -1.0 ? -1.0 : lx; // std::clamp's order
+          lx               = 1.0 < lx ? 1.0 : lx;
+          norm[k]          = r;
+          lode[k]          = lx;
+        }
+#pragma omp simd
+      for (std::size_t k = 0; k < count; ++k)
+        tresca[k] = norm[k] * lode_factor(lode[k]) * inverse_sqrt2;
+      for (std::size_t k = 0; k < count; ++k)
+        if (!(norm[k] > 0.0))
+          tresca[k] = 0.0;
+        else if (1.0 - std::abs(lode[k]) < lode_degeneracy)
+          {
+            const double wk[dim] = {w[0][k], w[1][k], w[2][k], w[3][k], w[4][k]};
+            tresca[k]            = deviator_tresca(wk);
+          }
+      double *const       peak      = x.peak;
+      std::int64_t *const peak_step = x.peak_step;
+      const std::int64_t  step      = x.step;
+      const bool          count_maximum = x.count_maximum;
+      for (std::size_t k = 0; k < count; ++k)
+        {
+          const std::size_t p    = p0 + k;
+          double            risk = infinity;
+          if (denominator[k] > 0.0)
+            risk = tresca[k] / denominator[k];
+          else if (x.now)
+            ++infinite;
+          if (x.now)
+            x.now[p] = risk;
+          // peak_step < 0 means peak = 0 (never set), so that test is only
+          // needed when risk > peak fails there: it spares reading
+          // peak_step for every point.
+          if (count_maximum && (risk > peak[p] || (!(risk > 0.0) && peak_step[p] < 0)))
+            {
+              peak[p]      = risk;
+              peak_step[p] = step;
+            }
+        }
+    }
+
+    /// How many of `count` values are not finite.
+    inline std::size_t count_not_finite(const double *values, std::size_t count)
+    {
+      std::size_t bad = 0;
+#pragma omp simd reduction(+ : bad)
+      for (std::size_t k = 0; k < count; ++k)
+        bad += !(std::abs(values[k]) <= std::numeric_limits<double>::max());
+      return bad;
+    }
+  } // namespace
+
   std::size_t DangVanField::advance(const double *values, std::size_t component_stride, std::size_t point_stride,
                                     std::size_t layer_stride, std::size_t plane, std::size_t layers,
                                     const BlockSource *source)
@@ -618,46 +760,43 @@ namespace fretsim::contact
     // over the current cycle (it becomes last_cycle_mean's next centre, and is
     // the provisional centre of both during cycle 1).
     const bool   running     = method == ResidualStressCentre::running_mean;
-    const bool   update_mean = method != ResidualStressCentre::hypersphere || first_cycle;
     const bool   mean_centre = running || first_cycle;
-    const double inverse     = 1.0 / static_cast<double>(running ? steps + 1 : cycle_steps + 1);
-    double      *path_row    = nullptr;
+    StepContext  x;
+    x.update_mean = method != ResidualStressCentre::hypersphere || first_cycle;
+    x.inverse     = 1.0 / static_cast<double>(running ? steps + 1 : cycle_steps + 1);
     if (method == ResidualStressCentre::hypersphere)
       {
         const std::size_t needed = (static_cast<std::size_t>(cycle_steps) + 1) * n * dim;
         if (path.size() < needed) // only before the first cycle end, and only without steps_per_cycle
           path.resize(std::max(needed, std::min(2 * path.size(), path.max_size())));
-        path_row = path.data() + static_cast<std::size_t>(cycle_steps) * n * dim;
+        x.path_row = path.data() + static_cast<std::size_t>(cycle_steps) * n * dim;
       }
-    const bool         count_maximum = maximum_active();
-    const std::int64_t step          = steps;
-    const double       alpha = material.alpha, beta = material.beta;
-    double            *m = mean.data(), *now = risk_now.data(), *peak = risk_peak.data();
-    // After the mean's update the centre is the mean itself or the last cycle's.
-    const double      *c         = mean_centre ? mean.data() : centre.data();
-    std::int64_t      *peak_step = risk_peak_step.data();
-    const std::size_t  points    = n;
-    std::size_t        infinite  = 0, not_finite = 0;
+    x.count_maximum = maximum_active();
+    x.step          = steps;
+    x.alpha         = material.alpha;
+    x.beta          = material.beta;
+    x.mean          = mean.data();
+    x.centre        = mean_centre ? mean.data() : centre.data();
+    x.points        = n;
+    x.now           = risk_now.data();
+    x.peak          = risk_peak.data();
+    x.peak_step     = risk_peak_step.data();
+    std::size_t infinite = 0, not_finite = 0;
 
-    // Blocks of points within a layer: a branch-free pass over a block
-    // (deviator, mean, Lode invariant, Newton's Tresca) that the compiler
-    // vectorises, then the few near-repeated principal values by Jacobi.
-    // Handed out 8 blocks at a time as threads come free: on a loaded machine
-    // a thread that loses its core does not hold the others up. Each point's
-    // arithmetic is the same whichever thread does it.
+    // Blocks of points within a layer, handed out 8 at a time as threads
+    // come free: on a loaded machine a thread that loses its core does not
+    // hold the others up.
     constexpr std::size_t block  = block_size;
     const std::size_t     blocks = (plane + block - 1) / block;
     const std::int64_t    tasks  = static_cast<std::int64_t>(blocks * layers);
-#pragma omp parallel for reduction(+ : infinite, not_finite) schedule(dynamic, 8) if (points > parallel_points)
+#pragma omp parallel for reduction(+ : infinite, not_finite) schedule(dynamic, 8) if (n > parallel_points)
     for (std::int64_t task = 0; task < tasks; ++task)
       {
         const std::size_t layer = static_cast<std::size_t>(task) / blocks;
         const std::size_t first = static_cast<std::size_t>(task) % blocks * block;
         const std::size_t count = std::min(block, plane - first);
-        const std::size_t p0    = layer * plane + first;
         const double     *in    = source ? nullptr : values + layer * layer_stride + first * point_stride;
-        alignas(64) double load[stress_component_count][block], u[dim][block], w[dim][block];
-        alignas(64) double norm[block], lode[block], tresca[block], denominator[block];
+        alignas(64) double load[stress_component_count][block];
         // Component planes read in place; interleaved tensors gathered first.
         const double *component[stress_component_count];
         if (source)
@@ -668,11 +807,7 @@ namespace fretsim::contact
             (*source)(layer, first, count, out);
             for (int comp = 0; comp < stress_component_count; ++comp)
               {
-                std::size_t bad = 0;
-#pragma omp simd reduction(+ : bad)
-                for (std::size_t k = 0; k < count; ++k)
-                  bad += !(std::abs(load[comp][k]) <= std::numeric_limits<double>::max());
-                not_finite += bad;
+                not_finite += count_not_finite(load[comp], count);
                 component[comp] = load[comp];
               }
           }
@@ -686,92 +821,106 @@ namespace fretsim::contact
                   load[comp][k] = in[comp * component_stride + k * point_stride];
                 component[comp] = load[comp];
               }
-        // The loops below keep to scalars (no local arrays), which the
-        // compiler vectorises; the arithmetic is that of coordinates() and
-        // unit_deviator(), operation for operation.
-        const double *sxx = component[xx], *syy = component[yy], *szz = component[zz];
-        const double *syz = component[yz], *sxz = component[xz], *sxy = component[xy];
-#pragma omp simd
-        for (std::size_t k = 0; k < count; ++k)
-          {
-            u[0][k]        = (2.0 * szz[k] - sxx[k] - syy[k]) * inverse_sqrt6;
-            u[1][k]        = (sxx[k] - syy[k]) * inverse_sqrt2;
-            u[2][k]        = sqrt2 * syz[k];
-            u[3][k]        = sqrt2 * sxz[k];
-            u[4][k]        = sqrt2 * sxy[k];
-            denominator[k] = beta - alpha * ((sxx[k] + syy[k] + szz[k]) * third);
-          }
-        if (update_mean)
-          for (int d = 0; d < dim; ++d)
-            {
-              double *md = m + d * points + p0;
-#pragma omp simd
-              for (std::size_t k = 0; k < count; ++k)
-                md[k] += (u[d][k] - md[k]) * inverse; // paper eq. 5
-            }
-        if (path_row)
-          for (std::size_t k = 0; k < count; ++k)
-            for (int d = 0; d < dim; ++d)
-              path_row[dim * (p0 + k) + d] = u[d][k];
-        for (int d = 0; d < dim; ++d)
-          {
-            const double *cd = c + d * points + p0;
-#pragma omp simd
-            for (std::size_t k = 0; k < count; ++k)
-              w[d][k] = u[d][k] - cd[k];
-          }
-#pragma omp simd
-        for (std::size_t k = 0; k < count; ++k)
-          {
-            // The Lode invariant as unit_deviator computes it.
-            const double w0 = w[0][k], w1 = w[1][k], w2 = w[2][k], w3 = w[3][k], w4 = w[4][k];
-            const double r     = std::sqrt(w0 * w0 + w1 * w1 + w2 * w2 + w3 * w3 + w4 * w4);
-            const double scale = 1.0 / r;
-            const double a0 = w0 * scale, a1 = w1 * scale, a2 = w2 * scale, a3 = w3 * scale, a4 = w4 * scale;
-            const double d2 = 2.0 * a0 * inverse_sqrt6;
-            const double d0 = -a0 * inverse_sqrt6 + a1 * inverse_sqrt2;
-            const double d1 = -a0 * inverse_sqrt6 - a1 * inverse_sqrt2;
-            const double o0 = a2 * inverse_sqrt2, o1 = a3 * inverse_sqrt2, o2 = a4 * inverse_sqrt2;
-            const double det = d0 * (d1 * d2 - o0 * o0) - o2 * (o2 * d2 - o0 * o1) + o1 * (o2 * o0 - d1 * o1);
-            double       x   = 3.0 * sqrt6 * det;
-            x                = x < -1.0 ? -1.0 : x; // std::clamp's order
-            x                = 1.0 < x ? 1.0 : x;
-            norm[k]          = r;
-            lode[k]          = x;
-          }
-#pragma omp simd
-        for (std::size_t k = 0; k < count; ++k)
-          tresca[k] = norm[k] * lode_factor(lode[k]) * inverse_sqrt2;
-        for (std::size_t k = 0; k < count; ++k)
-          if (!(norm[k] > 0.0))
-            tresca[k] = 0.0;
-          else if (1.0 - std::abs(lode[k]) < lode_degeneracy)
-            {
-              const double wk[dim] = {w[0][k], w[1][k], w[2][k], w[3][k], w[4][k]};
-              tresca[k]            = deviator_tresca(wk);
-            }
-        for (std::size_t k = 0; k < count; ++k)
-          {
-            const std::size_t p    = p0 + k;
-            double            risk = infinity;
-            if (denominator[k] > 0.0)
-              risk = tresca[k] / denominator[k];
-            else
-              ++infinite;
-            now[p] = risk;
-            // peak_step < 0 means peak = 0 (never set), so that test is only
-            // needed when risk > peak fails there: it spares reading
-            // peak_step for every point.
-            if (count_maximum && (risk > peak[p] || (!(risk > 0.0) && peak_step[p] < 0)))
-              {
-                peak[p]      = risk;
-                peak_step[p] = step;
-              }
-          }
+        block_step(x, component, count, layer * plane + first, infinite);
       }
     infinite_now = infinite;
     ++steps;
     ++cycle_steps;
+    if (options.steps_per_cycle > 0 && cycle_steps >= options.steps_per_cycle)
+      end_cycle();
+    return not_finite;
+  }
+
+  void DangVanField::add_steps(std::size_t plane, std::size_t count, const StepBlockSource &source)
+  {
+    if (plane == 0 || n % plane != 0)
+      {
+        std::ostringstream message;
+        message << "Dang Van: layers of " << plane << " points do not make up the " << n << " points";
+        throw std::invalid_argument(message.str());
+      }
+    const std::int64_t first_step = steps;
+    std::size_t        bad        = 0;
+    for (std::size_t done = 0; done < count;)
+      {
+        // A segment ends where a cycle does: the centre and the counting of
+        // D_max may change there.
+        std::size_t segment = count - done;
+        if (options.steps_per_cycle > 0)
+          segment = std::min(segment, static_cast<std::size_t>(options.steps_per_cycle - cycle_steps));
+        bad += advance_segment(plane, n / plane, source, done, segment, done + segment == count);
+        done += segment;
+      }
+    if (bad > 0)
+      {
+        std::ostringstream message;
+        message << "Dang Van: " << bad << " stress values in steps " << first_step << " to " << steps - 1
+                << " are not finite";
+        throw std::invalid_argument(message.str());
+      }
+  }
+
+  std::size_t DangVanField::advance_segment(std::size_t plane, std::size_t layers, const StepBlockSource &source,
+                                            std::size_t first_step, std::size_t count, bool last)
+  {
+    const ResidualStressCentre method      = options.centre;
+    const bool                 first_cycle = cycles == 0;
+    const bool                 running     = method == ResidualStressCentre::running_mean;
+    const bool                 mean_centre = running || first_cycle;
+    if (method == ResidualStressCentre::hypersphere)
+      {
+        const std::size_t needed = (static_cast<std::size_t>(cycle_steps) + count) * n * dim;
+        if (path.size() < needed) // only before the first cycle end, and only without steps_per_cycle
+          path.resize(std::max(needed, std::min(2 * path.size(), path.max_size())));
+      }
+    // The constants of each step, as advance() sets them.
+    std::vector<StepContext> contexts(count);
+    for (std::size_t s = 0; s < count; ++s)
+      {
+        StepContext &x  = contexts[s];
+        x.update_mean   = method != ResidualStressCentre::hypersphere || first_cycle;
+        x.inverse       = 1.0 / static_cast<double>(running ? steps + s + 1 : cycle_steps + s + 1);
+        x.path_row      = method == ResidualStressCentre::hypersphere ?
+                            path.data() + (static_cast<std::size_t>(cycle_steps) + s) * n * dim :
+                            nullptr;
+        x.count_maximum = maximum_active();
+        x.step          = steps + static_cast<std::int64_t>(s);
+        x.alpha         = material.alpha;
+        x.beta          = material.beta;
+        x.mean          = mean.data();
+        x.centre        = mean_centre ? mean.data() : centre.data();
+        x.points        = n;
+        x.now           = last && s + 1 == count ? risk_now.data() : nullptr;
+        x.peak          = risk_peak.data();
+        x.peak_step     = risk_peak_step.data();
+      }
+    std::size_t infinite = 0, not_finite = 0;
+
+    constexpr std::size_t block  = block_size;
+    const std::size_t     blocks = (plane + block - 1) / block;
+    const std::int64_t    tasks  = static_cast<std::int64_t>(blocks * layers);
+#pragma omp parallel for reduction(+ : infinite, not_finite) schedule(dynamic, 1) if (n > parallel_points)
+    for (std::int64_t task = 0; task < tasks; ++task)
+      {
+        const std::size_t layer = static_cast<std::size_t>(task) / blocks;
+        const std::size_t first = static_cast<std::size_t>(task) % blocks * block;
+        const std::size_t size  = std::min(block, plane - first);
+        alignas(64) double load[stress_component_count][block];
+        double            *out[stress_component_count];
+        for (int comp = 0; comp < stress_component_count; ++comp)
+          out[comp] = load[comp];
+        for (std::size_t s = 0; s < count; ++s)
+          {
+            source(first_step + s, layer, first, size, out);
+            for (int comp = 0; comp < stress_component_count; ++comp)
+              not_finite += count_not_finite(load[comp], size);
+            block_step(contexts[s], out, size, layer * plane + first, infinite);
+          }
+      }
+    if (last)
+      infinite_now = infinite;
+    steps += static_cast<std::int64_t>(count);
+    cycle_steps += static_cast<int>(count);
     if (options.steps_per_cycle > 0 && cycle_steps >= options.steps_per_cycle)
       end_cycle();
     return not_finite;

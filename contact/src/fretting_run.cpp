@@ -24,6 +24,11 @@ namespace fretsim::contact
   {
     using Clock = std::chrono::steady_clock;
 
+    /// Superposed steps held back before their Dang Van steps run together:
+    /// enough that a block's state and the levels' stresses it reads are
+    /// reused from cache, few enough that the records stay small.
+    constexpr std::size_t pending_steps_at_most = 64;
+
     double seconds_since(Clock::time_point start)
     {
       return std::chrono::duration<double>(Clock::now() - start).count();
@@ -191,16 +196,25 @@ namespace fretsim::contact
         if (recipe.reversal >= 0 && reversal_stress.count(recipe.reversal) == 0)
           // A new reversal: its traction is the one before this step.
           compose_shear(before, reversal_stress[recipe.reversal]);
+        // A reversal Masing's memory dropped goes once no held-back step needs it.
+        const auto needed = [&](std::int64_t id) {
+          return masing->holds_reversal(id) ||
+                 std::any_of(pending.begin(), pending.end(), [id](const PendingStep &p) { return p.recipe.reversal == id; });
+        };
         for (auto kept = reversal_stress.begin(); kept != reversal_stress.end();)
-          kept = masing->holds_reversal(kept->first) ? std::next(kept) : reversal_stress.erase(kept);
+          kept = needed(kept->first) ? std::next(kept) : reversal_stress.erase(kept);
         // The levels' stresses the step needs, evaluated before the sum.
         level_stresses(recipe.lower);
         level_stresses(recipe.upper);
         times.stresses += seconds_since(start);
-        // The sum, von Mises and Dang Van in one pass over the points.
-        start = Clock::now();
-        superposed_step(recipe);
-        times.dang_van += seconds_since(start);
+        // The sum, von Mises and Dang Van of the step are held back and run
+        // with the next ones (run_pending_steps): a block of points then goes
+        // through many steps while it is in cache.
+        pending.push_back({recipe, bulk_parts()});
+        total_recipe  = recipe;
+        total_written = false;
+        if (pending.size() >= pending_steps_at_most || finished())
+          run_pending_steps();
         return;
       }
     stresses->evaluate(no_load, traction_model->traction_x(), traction_model->traction_y(), shear_stress);
@@ -405,29 +419,57 @@ namespace fretsim::contact
     largest_six_j2 = largest;
   }
 
-  void FrettingRun::superposed_step(const MasingTraction::Composition &recipe)
+  void FrettingRun::run_pending_steps() const
   {
-    StressParts parts;
-    parts.pressure = pressure_stress.values.data();
-    parts.lower    = level_stresses(recipe.lower);
-    parts.upper    = level_stresses(recipe.upper);
-    parts.base     = recipe.reversal >= 0 ? reversal_stress.at(recipe.reversal).values.data() : parts.pressure;
-    parts.factor   = recipe.factor;
-    parts.weight   = recipe.weight;
+    if (pending.empty())
+      return;
+    const auto                     start = Clock::now();
+    const std::vector<PendingStep> steps = std::move(pending);
+    pending.clear();
+    std::vector<StressParts> parts(steps.size());
+    for (std::size_t k = 0; k < steps.size(); ++k)
+      {
+        const MasingTraction::Composition &recipe = steps[k].recipe;
+        StressParts                       &part   = parts[k];
+        part.pressure = pressure_stress.values.data();
+        part.lower    = virgin_stress->level(recipe.lower);
+        part.upper    = virgin_stress->level(recipe.upper);
+        part.base     = recipe.reversal >= 0 ? reversal_stress.at(recipe.reversal).values.data() : part.pressure;
+        part.factor   = recipe.factor;
+        part.weight   = recipe.weight;
+      }
     const std::size_t per_layer = surface.size();
-    const auto        add       = bulk_parts();
     // Per thread, a cache line apart; a maximum, so the split cannot change it.
     constexpr std::size_t apart = 8;
     std::vector<double>   largest(apart * static_cast<std::size_t>(omp_get_max_threads()), largest_six_j2);
-    dang_van->add_step(per_layer, [&](std::size_t layer, std::size_t first, std::size_t count, double *const *out) {
-      double &mine = largest[apart * static_cast<std::size_t>(omp_get_thread_num())];
-      mine = sum_block(parts, layer * stress_component_count * per_layer + first, per_layer, add[layer].data(), count,
-                       out, mine);
-    });
+    dang_van->add_steps(per_layer, steps.size(),
+                        [&](std::size_t step, std::size_t layer, std::size_t first, std::size_t count,
+                            double *const *out) {
+                          double &mine = largest[apart * static_cast<std::size_t>(omp_get_thread_num())];
+                          mine = sum_block(parts[step], layer * stress_component_count * per_layer + first, per_layer,
+                                           steps[step].bulk[layer].data(), count, out, mine);
+                        });
     for (std::size_t thread = 0; thread < largest.size(); thread += apart)
       largest_six_j2 = std::max(largest_six_j2, largest[thread]);
-    total_recipe  = recipe;
-    total_written = false;
+    times.dang_van += seconds_since(start);
+  }
+
+  const DangVanField &FrettingRun::risk() const
+  {
+    run_pending_steps();
+    return *dang_van;
+  }
+
+  const FrettingStageTimes &FrettingRun::stage_times() const
+  {
+    run_pending_steps();
+    return times;
+  }
+
+  double FrettingRun::von_mises_max() const
+  {
+    run_pending_steps();
+    return std::sqrt(0.5 * largest_six_j2);
   }
 
   const StressField &FrettingRun::stress() const
@@ -461,6 +503,7 @@ namespace fretsim::contact
 
   RiskMaximum FrettingRun::risk_maximum() const
   {
+    run_pending_steps();
     const std::vector<double> &risk_max = dang_van->risk_max();
     RiskMaximum                result;
     std::size_t                worst = risk_max.size();

@@ -10,8 +10,16 @@ namespace fretsim::contact
   /// left at the highest level to continue the monotone loading.
   struct MasingTraction::Virgin
   {
+    /// The first loading is monotone: each level starts from the last two
+    /// extrapolated.
+    static PartialSlipSettings monotone(PartialSlipSettings settings)
+    {
+      settings.extrapolated_start = true;
+      return settings;
+    }
+
     Virgin(const SurfaceGrid &grid, const MaterialPair &materials, const PartialSlipSettings &settings)
-      : solver(grid, materials, settings)
+      : solver(grid, materials, monotone(settings))
       , shifts{0.0}
       , tau_x{grid.zeros()}
       , tau_y{grid.zeros()}

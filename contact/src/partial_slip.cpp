@@ -147,6 +147,11 @@ namespace fretsim::contact
     PartialSlipStep            step;
     /// Secant stiffness of the last force-controlled step [N/m] (0: unknown).
     double                     force_stiffness = 0.0;
+    /// The tractions before the last step and its uniform shift increment,
+    /// for the extrapolated start (PartialSlipSettings::extrapolated_start).
+    Field                      older_x, older_y;
+    double                     last_shift_x = 0.0, last_shift_y = 0.0;
+    bool                       have_older   = false;
 
     // The current step's problem on the list of loaded cells.
     struct Problem
@@ -194,6 +199,7 @@ namespace fretsim::contact
       loaded_cells                  = 0;
       step                          = PartialSlipStep{};
       force_stiffness               = 0.0;
+      have_older                    = false;
     }
 
     // ---- the operator on the loaded cells
@@ -301,8 +307,9 @@ namespace fretsim::contact
         }
     }
 
-    /// Initial iterate: last step's tractions, projected onto the new discs.
-    Iterate initial_iterate()
+    /// Initial iterate: last step's tractions (plus `ahead` times their change
+    /// over the step before), projected onto the new discs.
+    Iterate initial_iterate(double ahead = 0.0)
     {
       Iterate     it;
       const auto &cells = problem.cells;
@@ -310,10 +317,15 @@ namespace fretsim::contact
       it.tx.resize(n);
       it.ty.resize(n);
       it.slipping.assign(n, 0);
-      bool unchanged = cells == previous_cells;
+      bool unchanged = cells == previous_cells && ahead == 0.0;
       for (std::size_t c = 0; c < n; ++c)
         {
-          double       tx = tau_x[cells[c]], ty = tau_y[cells[c]];
+          double tx = tau_x[cells[c]], ty = tau_y[cells[c]];
+          if (ahead != 0.0)
+            {
+              tx += ahead * (tau_x[cells[c]] - older_x[cells[c]]);
+              ty += ahead * (tau_y[cells[c]] - older_y[cells[c]]);
+            }
           const double g = problem.bound[c], magnitude = std::hypot(tx, ty);
           if (magnitude >= g * (1.0 - 1e-12))
             {
@@ -580,6 +592,7 @@ namespace fretsim::contact
     /// Tractions vanish: no load or no friction.
     void commit_unloaded()
     {
+      have_older = false;
       std::fill(tau_x.begin(), tau_x.end(), 0.0);
       std::fill(tau_y.begin(), tau_y.end(), 0.0);
       std::fill(slip_x.begin(), slip_x.end(), 0.0);
@@ -627,11 +640,33 @@ namespace fretsim::contact
         {
           std::vector<double> bx, by;
           right_hand_side(shift_x, shift_y, field_x, field_y, bx, by);
-          Iterate it = initial_iterate();
+          // A uniform shift continuing along the last one on the same cells:
+          // the tractions change nearly as over the last step, so the start
+          // goes that change ahead, scaled to the increment.
+          double     ahead = 0.0;
+          const bool extrapolate =
+            settings.extrapolated_start && !field_x && have_older && problem.cells == previous_cells;
+          if (extrapolate)
+            {
+              const double last  = last_shift_x * last_shift_x + last_shift_y * last_shift_y;
+              const double along = shift_x * last_shift_x + shift_y * last_shift_y;
+              const double cross = shift_x * last_shift_y - shift_y * last_shift_x;
+              if (last > 0.0 && along > 0.0 && std::abs(cross) <= 1e-9 * along)
+                ahead = along / last;
+            }
+          Iterate it = initial_iterate(ahead);
           solve(bx, by, it);
           step.iterations   = it.iterations;
           step.convolutions = it.convolutions;
+          if (settings.extrapolated_start)
+            {
+              older_x = tau_x;
+              older_y = tau_y;
+            }
           commit(it, bx, by);
+          have_older   = settings.extrapolated_start && !field_x;
+          last_shift_x = shift_x;
+          last_shift_y = shift_y;
         }
       // Only a completed step moves the shift (a throw leaves the state).
       total_shift_x += shift_x;
@@ -640,6 +675,7 @@ namespace fretsim::contact
 
     void force_step(const Field &pressure, double mu, double target_x, double target_y)
     {
+      have_older = false;
       if (!std::isfinite(target_x) || !std::isfinite(target_y))
         throw std::invalid_argument("PartialSlipSolver::advance_to_force: the force must be finite");
       set_up_problem(pressure, mu);

@@ -9,7 +9,8 @@
 // would stop readers opening a file that was never closed.
 //
 // Series are chunked by 1024 rows; field snapshots one per chunk, deflated
-// (level 1, with shuffle) since each is written once and whole.
+// (level 1, with shuffle) since each is written once and whole, unless the
+// caller declares them uncompressed.
 #include <fretsim/output/results_file.h>
 
 #include "hdf5_handles.h"
@@ -567,7 +568,7 @@ namespace fretsim::output
   }
 
   void ResultsFile::declare_field(const std::string &name, const std::string &unit,
-                                  const std::vector<std::size_t> &dims)
+                                  const std::vector<std::size_t> &dims, bool compress)
   {
     QuietErrors quiet;
     check_name(name, "field");
@@ -580,7 +581,7 @@ namespace fretsim::output
     if (!impl->time.dataset.valid())
       impl->time.dataset = impl->create_growing("/time", "s", {}, impl->times.size(), 1024, false);
     std::vector<hsize_t> field_dims(dims.begin(), dims.end());
-    Handle dataset = impl->create_growing(path, unit, field_dims, impl->times.size(), 1, true);
+    Handle dataset = impl->create_growing(path, unit, field_dims, impl->times.size(), 1, compress);
     impl->fields.push_back({path, field_dims, std::move(dataset)});
   }
 

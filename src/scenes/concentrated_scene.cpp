@@ -479,10 +479,13 @@ namespace fretsim::scenes
                {"pressure", "Pa"}, {"shear_x", "Pa"}, {"shear_y", "Pa"}, {"effective_friction", "1"}, {"slip", "1"}})
           results.declare_field(name, unit, field_shape);
         layers = depth_layers.size();
+        // The stresses and risk are dense below the surface: deflate would
+        // take most of the writing time for a third off their size.
         results.declare_field("stress", "Pa",
-                              {layers, std::size_t(contact::stress_component_count), field_shape[0], field_shape[1]});
+                              {layers, std::size_t(contact::stress_component_count), field_shape[0], field_shape[1]},
+                              false);
         results.set_root_attribute("stress_components", "xx, yy, zz, yz, xz, xy (tension positive, lower body)");
-        results.declare_field("risk", "1", {layers, field_shape[0], field_shape[1]});
+        results.declare_field("risk", "1", {layers, field_shape[0], field_shape[1]}, false);
       }
 
       void append_row(const std::vector<double> &row) { results.append_series_row(row); }
@@ -512,47 +515,89 @@ namespace fretsim::scenes
       std::vector<std::size_t> field_shape;
       std::size_t              layers = 0;
     };
+  } // namespace
 
-    /// D_max of each (case, cells x, cells y) history, as many at a time as
-    /// the caller's OpenMP threads (a map's point has one), each run on one
-    /// core: its digits do not depend on how the runs share the machine.
-    std::vector<double> risks_in_parallel(const std::vector<std::tuple<const contact::FrettingCase *, int, int>> &runs,
-                                          double half_width_factor)
+  /// The reruns of the error estimate: the cases and (case, cells x, cells
+  /// y) of each, worked through by threads that take the next run as they
+  /// come free, each run on one core, so that its digits do not depend on how
+  /// the runs share the machine.
+  struct ConcentratedContactScene::RiskReruns
+  {
+    contact::FrettingCase coarse, finer_in_time, check, check_exact;
+    std::vector<std::tuple<const contact::FrettingCase *, int, int>> runs;
+    double                   half_width_factor = 1.5;
+    bool                     check_model       = false;
+    std::vector<double>      risk;
+    std::vector<std::string> failure;
+    std::atomic<std::size_t> next{0};
+    std::atomic<std::size_t> working{0}; ///< threads still on the runs
+    std::atomic<bool>        cancelled{false}; ///< the run was interrupted: stop
+    std::vector<std::thread> threads;
+    Clock::time_point        start;
+
+    void work()
     {
-      std::vector<double>      risk(runs.size());
-      std::vector<std::string> failure(runs.size());
-      std::atomic<std::size_t> next{0};
-      const auto               work = [&] {
-        omp_set_num_threads(1);
-        for (std::size_t k = next++; k < runs.size(); k = next++)
-          try
-            {
-              const auto &[fretting_case, cells_x, cells_y] = runs[k];
-              risk[k] = contact::fretting_risk_maximum(
-                          *fretting_case, contact::fretting_grid(*fretting_case, cells_x, cells_y, half_width_factor))
-                          .value;
-            }
-          catch (const std::exception &error)
-            {
-              failure[k] = error.what();
-            }
-      };
-      const std::size_t        cores = static_cast<std::size_t>(std::max(1, omp_get_max_threads()));
-      std::vector<std::thread> threads;
-      for (std::size_t t = 0; t < std::min(cores, runs.size()); ++t)
-        threads.emplace_back(work);
+      omp_set_num_threads(1);
+      struct Leaving
+      {
+        std::atomic<std::size_t> &count;
+        ~Leaving() { --count; }
+      } leaving{working};
+      for (std::size_t k = next++; k < runs.size(); k = next++)
+        try
+          {
+            const auto &[fretting_case, cells_x, cells_y] = runs[k];
+            contact::FrettingRun run(*fretting_case,
+                                     contact::fretting_grid(*fretting_case, cells_x, cells_y, half_width_factor));
+            while (!run.finished() && !cancelled)
+              run.advance();
+            risk[k] = run.risk_maximum().value;
+          }
+        catch (const std::exception &error)
+          {
+            failure[k] = error.what();
+          }
+    }
+
+    /// Up to `count` more threads on the runs not yet taken.
+    void add_threads(std::size_t count)
+    {
+      if (threads.empty())
+        start = Clock::now();
+      for (std::size_t t = 0; t < count && threads.size() < runs.size(); ++t)
+        {
+          ++working;
+          threads.emplace_back([this] { work(); });
+        }
+    }
+
+    /// Waits for every run; throws if one failed.
+    void join()
+    {
       for (auto &thread : threads)
         thread.join();
+      threads.clear();
       for (const auto &message : failure)
         if (!message.empty())
           throw std::runtime_error("risk error estimate: " + message);
-      return risk;
     }
-  } // namespace
+
+    ~RiskReruns()
+    {
+      // The run interrupted, or an exception on its way out of run(): the
+      // threads stop at their next step.
+      cancelled = true;
+      next      = runs.size();
+      for (auto &thread : threads)
+        if (thread.joinable())
+          thread.join();
+    }
+  };
 
   ConcentratedContactScene::History ConcentratedContactScene::simulate(contact::FrettingRun &run,
                                                                        const RunOptions    &options,
-                                                                       const std::string   &results_file) const
+                                                                       const std::string   &results_file,
+                                                                       const RiskReruns    *reruns) const
   {
     const auto     &s = settings;
     const auto     &grid_ = run.grid();
@@ -592,8 +637,14 @@ namespace fretsim::scenes
     history.loop.add(0.0, write_row(0, 0.0, 0.0));
     if (results)
       results->flush();
+    // The run's threads: the cores the reruns leave, so that no core has two
+    // threads (an OpenMP thread waiting for work spins for a while, taking
+    // the core from a rerun).
+    const int cores = omp_get_max_threads();
     while (!run.finished() && !app::interrupt_requested())
       {
+        if (reruns)
+          omp_set_num_threads(std::max(1, cores - static_cast<int>(reruns->working.load())));
         run.advance();
         const long step            = run.steps_done();
         const bool reversed_before = (step - 1) * time_step >= 0.25 * s.period * (1.0 - 1e-12);
@@ -609,6 +660,8 @@ namespace fretsim::scenes
           results->flush();
         progress.update(step, run.time());
       }
+    if (reruns)
+      omp_set_num_threads(cores);
     progress.finish();
     history.completed = run.finished();
     if (results)
@@ -617,51 +670,61 @@ namespace fretsim::scenes
     return history;
   }
 
-  ConcentratedContactScene::RiskConvergence
-  ConcentratedContactScene::estimate_risk_convergence(const contact::RiskMaximum &finest) const
+  std::unique_ptr<ConcentratedContactScene::RiskReruns> ConcentratedContactScene::risk_reruns() const
   {
     // The same history on the grids of 2 and 4 times the spacing (the grid's
     // half-widths are kept), and on the coarsest grid with half the time step
     // for the time error; with a model other than exact, the model and the
     // incremental exact solver over the same first cycles on the coarsest grid.
-    const auto &s = settings;
+    const auto &s      = settings;
+    auto        reruns = std::make_unique<RiskReruns>();
+    auto       &r      = *reruns;
     // Short runs: FFTW's estimated plans (measuring costs more than these runs
     // save, and estimated plans give the same digits in every process).
-    contact::FrettingCase coarse             = fretting_case;
-    coarse.exact.measure_fft_plans            = false;
-    coarse.stress_evaluator.measure_fft_plans = false;
-    contact::FrettingCase finer_in_time = coarse;
-    finer_in_time.steps_per_cycle *= 2;
+    r.coarse                                    = fretting_case;
+    r.coarse.exact.measure_fft_plans            = false;
+    r.coarse.stress_evaluator.measure_fft_plans = false;
+    r.finer_in_time = r.coarse;
+    r.finer_in_time.steps_per_cycle *= 2;
     // Both models over the same short history: the running-mean risk peaks in
     // the first cycle, and the comparison needs only the same history.
-    contact::FrettingCase check = coarse;
-    check.cycles                = std::min(check.cycles, 2);
-    check.warmup_cycles         = std::min(check.warmup_cycles, check.cycles - 1);
-    contact::FrettingCase check_exact = check;
-    check_exact.traction_model        = contact::TractionModel::exact;
+    r.check               = r.coarse;
+    r.check.cycles        = std::min(r.check.cycles, 2);
+    r.check.warmup_cycles = std::min(r.check.warmup_cycles, r.check.cycles - 1);
+    r.check_exact                = r.check;
+    r.check_exact.traction_model = contact::TractionModel::exact;
 
     const int quarter_x = s.cells_x / 4, quarter_y = s.cells_y / 4;
-    std::vector<std::tuple<const contact::FrettingCase *, int, int>> runs{
-      {&coarse, quarter_x, quarter_y}, {&coarse, s.cells_x / 2, s.cells_y / 2}, {&finer_in_time, quarter_x, quarter_y}};
-    const bool check_model = fretting_case.traction_model != contact::TractionModel::exact;
-    if (check_model)
+    // The longest first: the threads that take them finish together.
+    r.runs = {{&r.coarse, s.cells_x / 2, s.cells_y / 2}, {&r.finer_in_time, quarter_x, quarter_y},
+              {&r.coarse, quarter_x, quarter_y}};
+    r.check_model = fretting_case.traction_model != contact::TractionModel::exact;
+    if (r.check_model)
       {
-        runs.emplace_back(&check, quarter_x, quarter_y);
-        runs.emplace_back(&check_exact, quarter_x, quarter_y);
+        r.runs.emplace_back(&r.check_exact, quarter_x, quarter_y);
+        r.runs.emplace_back(&r.check, quarter_x, quarter_y);
       }
-    const std::vector<double> risk = risks_in_parallel(runs, s.half_width_factor);
+    r.half_width_factor = s.half_width_factor;
+    r.risk.assign(r.runs.size(), 0.0);
+    r.failure.assign(r.runs.size(), std::string());
+    return reruns;
+  }
 
+  ConcentratedContactScene::RiskConvergence
+  ConcentratedContactScene::risk_convergence(const RiskReruns &r, const contact::RiskMaximum &finest) const
+  {
+    const auto     &s = settings;
     RiskConvergence convergence;
     convergence.cells = {s.cells_x / 4, s.cells_x / 2, s.cells_x};
-    convergence.risk  = {risk[0], risk[1], finest.value};
+    convergence.risk  = {r.risk[2], r.risk[0], finest.value};
     // First order in the time step: the limit lies as far beyond the half
     // step as the half step lies beyond the full one.
-    convergence.time_step_correction = risk[2] - risk[0];
+    convergence.time_step_correction = r.risk[1] - r.risk[2];
     convergence.grid = contact::richardson_estimate(convergence.risk[2], convergence.risk[1], convergence.risk[0]);
-    if (check_model)
+    if (r.check_model)
       {
-        convergence.model_and_exact_risk  = std::array<double, 2>{risk[3], risk[4]};
-        convergence.traction_check_cycles = check.cycles;
+        convergence.model_and_exact_risk  = std::array<double, 2>{r.risk[4], r.risk[3]};
+        convergence.traction_check_cycles = r.check.cycles;
       }
     return convergence;
   }
@@ -677,18 +740,39 @@ namespace fretsim::scenes
         report.summary_file = (std::filesystem::path(options.output_directory) / "summary.json").string();
       }
 
+    // The grid and time-step error of D_max comes from coarser runs of the
+    // same history, independent of this run's: with two cores or more one
+    // thread starts on them now and takes the core the history leaves idle
+    // (its traction solves are serial), more join when the history is done.
+    // A single thread (a map's point) runs them after the history.
+    const std::size_t           cores = static_cast<std::size_t>(std::max(1, omp_get_max_threads()));
+    std::unique_ptr<RiskReruns> reruns;
+    if (settings.estimate_risk_error)
+      {
+        reruns = risk_reruns();
+        if (cores > 1)
+          reruns->add_threads(1);
+      }
     // 1. Normal contact, on the grid of the run.
     contact::FrettingRun run(fretting_case, grid, std::move(stresses));
     // 2. The sliding cycles: traction, stresses and Dang Van every step,
     //    results.h5 growing step by step.
-    const History history = simulate(run, options, report.results_file);
+    const History history = simulate(run, options, report.results_file, reruns.get());
     report.completed      = history.completed;
-    // 3. The grid and time-step error of D_max, from coarser runs.
-    const auto convergence_start = Clock::now();
+    // 3. The error estimate's reruns finished, on every core.
     std::optional<RiskConvergence> convergence;
-    if (settings.estimate_risk_error && report.completed)
-      convergence = estimate_risk_convergence(run.risk_maximum());
-    const double convergence_seconds = seconds_since(convergence_start);
+    double                         convergence_seconds = 0.0;
+    if (reruns)
+      {
+        if (report.completed)
+          {
+            reruns->add_threads(cores);
+            reruns->join();
+            convergence_seconds = seconds_since(reruns->start);
+            convergence         = risk_convergence(*reruns, run.risk_maximum());
+          }
+        reruns.reset();
+      }
     // 4. Summary and figures.
     const output::Summary summary =
       make_summary(run, history, convergence, convergence_seconds, seconds_since(run_start));

@@ -120,8 +120,14 @@ namespace fretsim::scenes
     void build_stress_evaluator();
     double calibrated_bristle_stiffness() const;
 
-    History         simulate(contact::FrettingRun &run, const RunOptions &options, const std::string &results_file) const;
-    RiskConvergence estimate_risk_convergence(const contact::RiskMaximum &finest) const;
+    /// The reruns of the error estimate (concentrated_scene.cpp), ready to start.
+    struct RiskReruns;
+    /// The history; its threads leave the cores to `reruns` (if given) while they work.
+    History simulate(contact::FrettingRun &run, const RunOptions &options, const std::string &results_file,
+                     const RiskReruns *reruns) const;
+    std::unique_ptr<RiskReruns> risk_reruns() const;
+    /// D_max's convergence from the finished reruns and the run's own D_max.
+    RiskConvergence risk_convergence(const RiskReruns &reruns, const contact::RiskMaximum &finest) const;
     output::Summary make_summary(const contact::FrettingRun &run, const History &history,
                                  const std::optional<RiskConvergence> &convergence, double convergence_seconds,
                                  double wall_seconds) const;

@@ -747,6 +747,66 @@ TEST(dang_van_field, BlockSourceEqualsTheStressField)
                std::invalid_argument);
 }
 
+TEST(dang_van_field, StepBatchesEqualStepByStep)
+{
+  // Batches of 1 to 11 steps (crossing cycle ends, the warm-up's end and
+  // the per-cycle centres' changes) against one step at a time: the same
+  // arithmetic per point and step, so D, D_max and its step are equal bit
+  // for bit.
+  const int         layers = 2, ny = 9, nx = 40, steps_per_cycle = 8, cycles = 4;
+  const std::size_t plane = static_cast<std::size_t>(ny) * nx, n = layers * plane;
+  const auto value = [&](int step, std::size_t layer, int c, std::size_t cell) {
+    const double w = phase(step, steps_per_cycle);
+    return 1e8 * ((c + 1) * std::sin(w + 0.013 * cell) + 0.5 * c * std::cos(2 * w + layer)) + (c < 3 ? 5e7 : 0.0);
+  };
+  for (const auto centre : all_centres)
+    for (const int warmup : {0, 1})
+      {
+        DangVanField by_step(n, paper, with(centre, steps_per_cycle, warmup));
+        DangVanField batched(n, paper, with(centre, steps_per_cycle, warmup));
+        int          done = 0;
+        for (int batch = 1; done < cycles * steps_per_cycle; batch = batch % 11 + 1)
+          {
+            const int count = std::min(batch, cycles * steps_per_cycle - done);
+            for (int k = 0; k < count; ++k)
+              by_step.add_step(plane, [&](std::size_t layer, std::size_t first, std::size_t size, double *const *out) {
+                for (int c = 0; c < 6; ++c)
+                  for (std::size_t q = 0; q < size; ++q)
+                    out[c][q] = value(done + k, layer, c, first + q);
+              });
+            batched.add_steps(plane, static_cast<std::size_t>(count),
+                              [&](std::size_t step, std::size_t layer, std::size_t first, std::size_t size,
+                                  double *const *out) {
+                                ASSERT_LE(size, DangVanField::block_size);
+                                for (int c = 0; c < 6; ++c)
+                                  for (std::size_t q = 0; q < size; ++q)
+                                    out[c][q] = value(done + static_cast<int>(step), layer, c, first + q);
+                              });
+            done += count;
+            ASSERT_EQ(by_step.step_count(), batched.step_count());
+            ASSERT_EQ(by_step.complete_cycles(), batched.complete_cycles());
+            ASSERT_EQ(by_step.risk(), batched.risk()) << to_string(centre) << " after step " << done;
+            ASSERT_EQ(by_step.infinite_risk_count(), batched.infinite_risk_count());
+          }
+        EXPECT_EQ(by_step.risk_max(), batched.risk_max()) << to_string(centre);
+        EXPECT_EQ(by_step.risk_max_step(), batched.risk_max_step()) << to_string(centre);
+      }
+  // A non-finite value is reported after the batch, which counts.
+  DangVanField field(n, paper);
+  EXPECT_THROW(field.add_steps(plane, 3,
+                               [](std::size_t step, std::size_t layer, std::size_t first, std::size_t count,
+                                  double *const *out) {
+                                 for (int c = 0; c < 6; ++c)
+                                   std::fill(out[c], out[c] + count, 1e8);
+                                 if (step == 1 && layer == 1 && first == 0)
+                                   out[2][0] = std::numeric_limits<double>::infinity();
+                               }),
+               std::invalid_argument);
+  EXPECT_EQ(field.step_count(), 3);
+  EXPECT_THROW(field.add_steps(plane + 1, 2, [](std::size_t, std::size_t, std::size_t, std::size_t, double *const *) {}),
+               std::invalid_argument);
+}
+
 TEST(dang_van_field, ProportionalPulsatingFieldMatchesClosedForm)
 {
   // 3 x 32 x 32 = 3072 points (above the OpenMP threshold, so the parallel

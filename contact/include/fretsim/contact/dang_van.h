@@ -120,6 +120,20 @@ namespace fretsim::contact
     /// (which then counts), if a value was not finite.
     void add_step(std::size_t plane, const BlockSource &source);
 
+    /// Fills the six components of a block as BlockSource does, for step
+    /// `step` (0-based) of a batch.
+    using StepBlockSource = std::function<void(std::size_t step, std::size_t layer, std::size_t first,
+                                               std::size_t count, double *const *out)>;
+    /// `steps` time steps at once, equal to as many add_step(plane, source)
+    /// calls with source(k, ...) for step k, value for value; cycle ends
+    /// (DangVanSettings::steps_per_cycle) fall where they would. Each block of
+    /// points goes through all the steps while its state and stresses are in
+    /// cache, instead of every step streaming the whole field through memory.
+    /// risk() and infinite_risk_count() are the last step's. The stresses
+    /// must not depend on the criterion's state. A non-finite value throws
+    /// std::invalid_argument after the batch (which then counts).
+    void add_steps(std::size_t plane, std::size_t steps, const StepBlockSource &source);
+
     /// Ends the current load cycle. Throws std::logic_error if no step was
     /// added since the last cycle ended.
     void end_cycle();
@@ -159,6 +173,11 @@ namespace fretsim::contact
     std::size_t advance(const double *values, std::size_t component_stride, std::size_t point_stride,
                         std::size_t layer_stride, std::size_t plane, std::size_t layers,
                         const BlockSource *source = nullptr);
+    /// `count` steps from a StepBlockSource (first_step: the batch index of
+    /// the first), none past a cycle end; risk() written at the last of them
+    /// if `last`. Returns the number of non-finite values met.
+    std::size_t advance_segment(std::size_t plane, std::size_t layers, const StepBlockSource &source,
+                                std::size_t first_step, std::size_t count, bool last);
     void check_finite(const double *values, std::size_t count) const;
 
     std::size_t      n;

@@ -106,6 +106,10 @@ namespace fretsim::contact
   /// value, done as the Dang Van step reads them, instead of a stress
   /// evaluation; the result differs from evaluating S(tau) by round-off only
   /// (verification_fretting_run). The memory: FrettingCase::superposition_budget.
+  /// Those Dang Van steps are held back and run up to 64 at a time, each
+  /// block of points through all of them while it is in cache; risk(),
+  /// risk_maximum(), von_mises_max() and stage_times() run the held-back
+  /// steps first, so every reading is that of the last step.
   class FrettingRun
   {
   public:
@@ -134,25 +138,28 @@ namespace fretsim::contact
     /// The total stress of the last step (written on the first call after a
     /// superposed step; not to be called from two threads at once).
     const StressField             &stress() const;
-    const DangVanField            &risk() const { return *dang_van; }
+    /// The criterion after the last step (its pending steps are run first;
+    /// not to be called from two threads at once, as stress()).
+    const DangVanField            &risk() const;
     RiskMaximum                    risk_maximum() const;
     const SubsurfaceStress        &stress_evaluator() const { return *stresses; }
-    const FrettingStageTimes      &stage_times() const { return times; }
+    const FrettingStageTimes      &stage_times() const;
     long                           traction_iterations() const { return iterations_total; }
     int                            most_traction_iterations() const { return iterations_most; }
     /// The largest von Mises stress of the total stress (contact and bulk)
     /// over the points and the steps so far, the initial state included [Pa].
-    double von_mises_max() const { return std::sqrt(0.5 * largest_six_j2); }
+    double von_mises_max() const;
     /// True if the stresses are composed from the virgin levels' (class comment).
     bool stresses_superposed() const { return masing != nullptr; }
 
   private:
     /// total = pressure + shear (if given) + bulk stress at the current time.
     void add_stresses(const StressField *shear);
-    /// The Dang Van step of the stresses composed by `recipe` (see the class),
-    /// summed block by block as the criterion reads them, with the von Mises
-    /// maximum; total_stress is written only when stress() asks for it.
-    void superposed_step(const MasingTraction::Composition &recipe);
+    /// The Dang Van steps of the superposed steps held back so far, all at
+    /// once (DangVanField::add_steps): each step's stresses composed by its
+    /// recipe (see the class), summed block by block as the criterion reads
+    /// them, with the von Mises maximum.
+    void run_pending_steps() const;
     /// The bulk stress on each layer at the current time (Voigt).
     std::vector<std::array<double, stress_component_count>> bulk_parts() const;
     /// The stresses of virgin level k (total_stress's layout), evaluated on
@@ -177,11 +184,19 @@ namespace fretsim::contact
     struct LevelStore;
     std::unique_ptr<LevelStore>              virgin_stress;   ///< the levels' stresses
     std::map<std::int64_t, StressField>      reversal_stress; ///< by reversal id, the pressure's included
-    double                                   largest_six_j2 = 0.0; ///< of the total stress, 6 J2 = 2 sigma_vM^2
+    /// A superposed step whose Dang Van step is still to run: its recipe and
+    /// bulk stress per layer.
+    struct PendingStep
+    {
+      MasingTraction::Composition                             recipe;
+      std::vector<std::array<double, stress_component_count>> bulk;
+    };
+    mutable std::vector<PendingStep>         pending;
+    mutable double                           largest_six_j2 = 0.0; ///< of the total stress, 6 J2 = 2 sigma_vM^2
     Field                                    no_load;
     std::int64_t                             step_index           = 0;
     double                                   current_displacement = 0.0, last_displacement = 0.0;
-    FrettingStageTimes                       times;
+    mutable FrettingStageTimes               times;
     long                                     iterations_total = 0;
     int                                      iterations_most  = 0;
   };

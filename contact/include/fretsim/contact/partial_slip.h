@@ -107,6 +107,12 @@ namespace fretsim::contact
     /// at multiples of this shift [m] and interpolated in between; 0 solves it
     /// at the shifts the history asks for.
     double masing_level_spacing = 0.0;
+    /// Displacement control with a uniform shift continuing along the last
+    /// step's: start from the last tractions extrapolated linearly in the
+    /// shift (projected onto the discs) instead of the last tractions. The
+    /// same solution to the tolerance, in fewer iterations on a monotone
+    /// loading (MasingTraction's virgin levels use it).
+    bool extrapolated_start = false;
   };
 
   /// What one load step did.

@@ -30,8 +30,11 @@ namespace fretsim::output
 
     /// Declares /fields/<name> of shape [n_snapshots, dims...] growing along the
     /// first axis, and /time [n_snapshots] (s) shared by all declared fields.
+    /// `compress`: deflated with shuffle (pays off for fields with zeros
+    /// around the contact; dense stress fields shrink by little for the time
+    /// deflate takes).
     void declare_field(const std::string &name, const std::string &unit,
-                       const std::vector<std::size_t> &dims);
+                       const std::vector<std::size_t> &dims, bool compress = true);
     /// Appends one snapshot: /time gets `time`, each field gets its values
     /// (row-major, in declaration order, each of size prod(dims)).
     void append_snapshot(double time, const std::vector<const std::vector<double> *> &values);

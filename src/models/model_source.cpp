@@ -135,8 +135,9 @@ namespace fretsim::models
     try
       {
         InterfaceInfluence tables = read_ring_stress_file(source.file, source.expected_hash);
-        if (tables.grid.nx == ring.interface_grid.grid.nx && tables.grid.ny == ring.interface_grid.grid.ny)
-          return tables;
+        if (tables.grid.nx != ring.interface_grid.grid.nx || tables.grid.ny != ring.interface_grid.grid.ny)
+          throw std::runtime_error("ring stress tables '" + source.file + "' are on another grid than the ring's model");
+        return tables;
       }
     catch (const std::runtime_error &error)
       {

@@ -536,6 +536,18 @@ TEST(BearingScene, BadInputExitsWithTwoNamingTheParameterAndWritesNothing)
       EXPECT_NE(result.output.find(c.parameter), std::string::npos) << result.output;
       EXPECT_FALSE(std::filesystem::exists(out)) << c.parameter;
     }
+  // The ring's stress mesh: four counts, at least 3 around.
+  write_text(dir / "scene.prm", scene(dir));
+  for (const std::string mesh : {"360x3x6", "2x1x1x1", "72x2x0x1", "72 x 2 x 3 x 1 x 1"})
+    {
+      const auto out    = dir / "out";
+      const auto result = run_program("run " + (dir / "scene.prm").string() + " -q --no-plots -o " + out.string() +
+                                      " --set 'Stresses/Ring mesh=" + mesh + "'");
+      EXPECT_EQ(result.exit_code, 2) << result.output;
+      EXPECT_NE(result.output.find("'Stresses/Ring mesh'"), std::string::npos) << result.output;
+      EXPECT_EQ(result.output.find("set twice"), std::string::npos) << result.output;
+      EXPECT_FALSE(std::filesystem::exists(out)) << mesh;
+    }
 }
 
 TEST(BearingScene, ARunThatFailsLeavesAReadableFileWithTheStepsDone)

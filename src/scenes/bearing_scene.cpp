@@ -1108,13 +1108,18 @@ namespace fretsim::scenes
   ResourceEstimate BearingHousingScene::estimate_resources(const app::SceneParameters &parameters)
   {
     const auto &par = parameters;
-    // The interface grid (G cells) of each body's reduction configuration.
-    const auto grid_cells = [](const models::ModelSource &source) {
+    // The interface grid (n_x × n_y = G cells) of each body's reduction configuration.
+    const auto grid = [](const models::ModelSource &source) {
       const auto reduction = models::read_ring_housing_parameters(source.config, source.overrides);
-      return double(reduction.get_integer("Reduction/Interface grid circumferential cells")) *
-             double(reduction.get_integer("Reduction/Interface grid axial cells"));
+      return std::pair{reduction.get_integer("Reduction/Interface grid circumferential cells"),
+                       reduction.get_integer("Reduction/Interface grid axial cells")};
     };
-    const double cells       = grid_cells(models::ring_model_source(par));
+    const auto grid_cells = [&](const models::ModelSource &source) {
+      const auto [nx, ny] = grid(source);
+      return double(nx) * double(ny);
+    };
+    const auto [ring_nx, ring_ny] = grid(models::ring_model_source(par));
+    const double cells       = double(ring_nx) * double(ring_ny);
     const double layers      = double(par.get_double_list("Stresses/Depth layers").size());
     const double samples     = std::round(par.get_double("Loading/Ball pass periods") *
                                           double(par.get_integer("Output/Samples per ball pass"))) + 1.0;
@@ -1134,10 +1139,9 @@ namespace fretsim::scenes
     double stress_tables = 0.0;
     if (par.get("Stresses/Ring stresses") == "full FE")
       {
-        const auto   reduction = models::read_ring_housing_parameters(models::ring_model_source(par).config, {});
-        const long   nx        = reduction.get_integer("Reduction/Interface grid circumferential cells");
-        const double ny        = double(reduction.get_integer("Reduction/Interface grid axial cells"));
-        const auto   counts    = app::parse_cell_counts(par.get("Stresses/Ring mesh"), 4);
+        const long   nx     = ring_nx;
+        const double ny     = double(ring_ny);
+        const auto   counts = app::parse_cell_counts(par.get("Stresses/Ring mesh"), 4);
         const double period    = counts.empty() ? double(nx) : double(nx / std::gcd(nx, counts[0]));
         stress_tables = layers * (period * 3.0 * ny * cells * 6.0 * 8.0 +
                                   std::pow(6.0 * ny * period, 2) * (double(nx) / period / 2.0 + 1.0) * 16.0);

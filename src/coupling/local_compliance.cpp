@@ -47,9 +47,11 @@ namespace fretsim::coupling
     struct SensitivityColumns;
 
     Impl(const contact::SurfaceGrid &g, double modulus, double layer_stiffness, bool periodic_x,
-         double cg_tolerance, const std::vector<double> &structural, const HalfSpaceCompletion &completion)
+         double cg_tolerance, const std::vector<double> &structural, const HalfSpaceCompletion &completion,
+         const UniformCompliance &wall)
       : grid(g)
-      , compliance(kernel(g, modulus, periodic_x, structural, completion, structural_asymmetry, completion_share))
+      , compliance(kernel(g, modulus, periodic_x, structural, completion, wall, 1.0 / layer_stiffness,
+                          structural_asymmetry, completion_share))
       , layer_compliance(1.0 / layer_stiffness)
       , sensitivity_tolerance(cg_tolerance)
     {
@@ -167,11 +169,40 @@ namespace fretsim::coupling
             }
     }
 
+    /// The constant that, added to every entry of the half-space's kernel
+    /// `love` (by column offset and row offset), makes the mean give under a
+    /// uniform unit pressure `uniform.compliance` (UniformCompliance); 0
+    /// without one. The constant adds n_x c 1 1ᵀ to the k = 0 block B_0 (rows
+    /// × rows): with c < 0 it stays positive definite while
+    /// 1 + n_x c 1ᵀ (B_0 + I/k_n)⁻¹ 1 > 0 (the residual flexibility's share is
+    /// positive semidefinite and only helps).
+    static double uniform_shift(const contact::SurfaceGrid &g, const std::function<double(int, int)> &love,
+                                const UniformCompliance &uniform, double layer_compliance)
+    {
+      if (!(uniform.compliance > 0.0))
+        return 0.0;
+      Eigen::MatrixXd block = Eigen::MatrixXd::Zero(g.ny, g.ny);
+      for (int j = 0; j < g.ny; ++j)
+        for (int jj = 0; jj < g.ny; ++jj)
+          for (int di = 0; di < g.nx; ++di)
+            block(j, jj) += love(di, j - jj);
+      const Eigen::VectorXd ones  = Eigen::VectorXd::Ones(g.ny);
+      const double          mean  = ones.dot(block * ones) / g.ny; // the half-space's own mean give [m/Pa]
+      const double          shift = (uniform.compliance - mean) / (static_cast<double>(g.nx) * g.ny);
+      block.diagonal().array() += layer_compliance;
+      if (1.0 + g.nx * shift * ones.dot(block.llt().solve(ones)) <= 0.0)
+        throw std::invalid_argument("local compliance: a uniform compliance of " + std::to_string(uniform.compliance) +
+                                    " m/Pa is too far below the half-space's own (" + std::to_string(mean) +
+                                    " m/Pa) for its kernel to stay positive definite");
+      return shift;
+    }
+
     /// The half-space's kernel (Love's rectangles; on the closed
     /// circumference the nearest image acts: periodic, convolved without
     /// padding in x), and the structural compliance added to it if given.
     static contact::SurfaceConvolution kernel(const contact::SurfaceGrid &g, double modulus, bool periodic_x,
                                               const std::vector<double> &structural, const HalfSpaceCompletion &completion,
+                                              const UniformCompliance &uniform, double layer_compliance,
                                               double &asymmetry, std::vector<double> &added)
     {
       const auto nearest = [g](int di) {
@@ -186,7 +217,9 @@ namespace fretsim::coupling
                                                          g.hy, modulus);
         };
       };
-      const auto love = love_at(modulus);
+      const auto   half_space = love_at(modulus);
+      const double shift      = uniform_shift(g, half_space, uniform, layer_compliance);
+      const auto   love       = [half_space, shift](int di, int dj) { return half_space(di, dj) + shift; };
       if (structural.empty())
         return contact::SurfaceConvolution(g, love, periodic_x);
       // R(di; j, jj): cell (di, j) under pressure on (0, jj). Reciprocity
@@ -254,7 +287,8 @@ namespace fretsim::coupling
 
   LocalCompliance::LocalCompliance(const contact::SurfaceGrid &grid, double contact_modulus, double layer_stiffness,
                                    bool periodic_x, double sensitivity_tolerance,
-                                   const std::vector<double> &structural_compliance, const HalfSpaceCompletion &completion)
+                                   const std::vector<double> &structural_compliance, const HalfSpaceCompletion &completion,
+                                   const UniformCompliance &uniform)
   {
     if (!(contact_modulus >= 0.0) || !std::isfinite(contact_modulus) ||
         (contact_modulus == 0.0 && structural_compliance.empty()))
@@ -273,8 +307,21 @@ namespace fretsim::coupling
                                       !std::isfinite(completion.wavelength))))
       throw std::invalid_argument("local compliance: the half-space completion needs a structural compliance, a "
                                   "finite modulus >= 0 and a positive wavelength");
+    if (!(uniform.compliance >= 0.0) || !std::isfinite(uniform.compliance) ||
+        (uniform.compliance > 0.0 && (!periodic_x || !(contact_modulus > 0.0))))
+      throw std::invalid_argument("local compliance: a uniform compliance must be finite and >= 0, and needs the "
+                                  "closed circumference and a half-space");
     impl = std::make_unique<Impl>(grid, contact_modulus, layer_stiffness, periodic_x, sensitivity_tolerance,
-                                  structural_compliance, completion);
+                                  structural_compliance, completion, uniform);
+  }
+
+  double lame_bore_compliance(double bore_radius, double outer_radius, double youngs_modulus, double poisson_ratio)
+  {
+    if (!(bore_radius > 0.0) || !(outer_radius > bore_radius) || !std::isfinite(outer_radius) ||
+        !(youngs_modulus > 0.0))
+      throw std::invalid_argument("Lamé ring: need 0 < bore radius < outer radius and a positive Young's modulus");
+    const double b2 = bore_radius * bore_radius, c2 = outer_radius * outer_radius;
+    return bore_radius / youngs_modulus * ((c2 + b2) / (c2 - b2) + poisson_ratio);
   }
 
   double LocalCompliance::structural_asymmetry() const { return impl->structural_asymmetry; }

@@ -308,7 +308,8 @@ namespace fretsim::coupling
                                                     settings.sensitivity_tolerance, ring.residual_pressure,
                                                     HalfSpaceCompletion{
                                                       ring.residual_pressure.empty() ? 0.0 : ring.residual_half_space_modulus,
-                                                      settings.half_space_completion_wavelength});
+                                                      settings.half_space_completion_wavelength},
+                                                    UniformCompliance{settings.housing_uniform_compliance});
           for (auto *field : {&local_pressure, &local_penetration})
             field->assign(cells, 0.0);
         }

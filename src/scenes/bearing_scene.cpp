@@ -215,6 +215,12 @@ namespace fretsim::scenes
                        "E of the rigid housing's material, for its local compliance [Pa]."),
         Spec::real_range("Interface/Housing Poisson ratio", "0.3", "nu of the housing's material [-].", 0.0, 0.5,
                          true),
+        Spec::non_negative("Interface/Housing outer radius", "0",
+                           "The housing's wall, for a fit: with Local compliance = housing, the housing's give under a "
+                           "pressure uniform around the bore is a free thick ring's of this outside radius and the "
+                           "housing's material (Lame, plane stress) instead of the half-space's, whose uniform give "
+                           "depends on the grid's width only; the shorter waves stay the half-space's. 0: the "
+                           "half-space's (docs/bearing.md) [m]."),
         Spec::real_range("Interface/Radial interference", "0",
                          "Ring outer radius minus housing bore radius: > 0 interference fit, < 0 clearance, 0 "
                          "line-to-line (the paper: only the loaded half carries pressure) [m].",
@@ -410,7 +416,7 @@ namespace fretsim::scenes
 
     /// The interface law, its local compliance and the residual flexibilities.
     void read_interface(Settings &s, const app::SceneParameters &par, const Material &ring_material,
-                        double ring_wall)
+                        double ring_outer_radius, double ring_wall)
     {
       auto &interface                = s.run.interface;
       interface.friction_coefficient = par.get_double("Interface/Friction coefficient");
@@ -434,7 +440,20 @@ namespace fretsim::scenes
                                  par.get_double("Interface/Housing Poisson ratio")};
           interface.local_compliance_modulus =
             local == "both" ? contact::MaterialPair{ring_material, housing}.contact_modulus() : housing.plane_modulus();
+          if (const double outside = par.get_double("Interface/Housing outer radius"); outside > 0.0)
+            {
+              if (local != "housing")
+                par.reject("Interface/Housing outer radius", "0 unless Local compliance = housing");
+              if (!(outside > ring_outer_radius))
+                par.reject("Interface/Housing outer radius",
+                           "0 or more than the housing's bore, the ring's outer radius " + std::to_string(ring_outer_radius) +
+                             " m");
+              interface.housing_uniform_compliance =
+                coupling::lame_bore_compliance(ring_outer_radius, outside, housing.youngs_modulus, housing.poisson_ratio);
+            }
         }
+      else if (par.get_double("Interface/Housing outer radius") > 0.0)
+        par.reject("Interface/Housing outer radius", "0 unless Local compliance = housing");
       s.ring_residual = par.get_bool("Interface/Ring residual flexibility");
       if (s.ring_residual && s.local_compliance == "both")
         par.reject("Interface/Ring residual flexibility",
@@ -521,7 +540,8 @@ namespace fretsim::scenes
     read_loading(s, par);
     const Material ring_material = elastic(body.materials.at(fem::MaterialId::ring));
     s.ring_poisson_ratio         = ring_material.poisson_ratio;
-    read_interface(s, par, ring_material, body.ring.outer_radius - body.ring.groove_bottom_radius);
+    read_interface(s, par, ring_material, body.ring.outer_radius,
+                   body.ring.outer_radius - body.ring.groove_bottom_radius);
     read_integrator(s, par);
     read_stresses_and_risk(s, par);
   }
@@ -892,6 +912,7 @@ namespace fretsim::scenes
       summary.set("local_compliance", s.local_compliance);
       summary.set("in_step_bristle_law", s.in_step_bristle_law);
       summary.set("local_compliance_modulus_Pa", s.run.interface.local_compliance_modulus);
+      summary.set("housing_uniform_compliance_m_per_Pa", s.run.interface.housing_uniform_compliance);
       summary.set("ring_residual_flexibility", s.ring_residual);
       summary.set("housing_residual_flexibility", s.housing_model && s.housing_residual);
       summary.set("residual_flexibility_at_balls", s.run.pressure_residual_at_balls && !ring.residual_ball.empty());

@@ -475,3 +475,44 @@ TEST(LocalCompliance, TheHalfSpaceCompletionAddsWhatATableLacksAtShortWavesOnly)
   EXPECT_THROW(LocalCompliance(grid, 0.0, layer, true, tolerance, lacking, HalfSpaceCompletion{modulus, 0.0}),
                std::invalid_argument);
 }
+
+TEST(LocalCompliance, AHousingWallSetsTheFitsUniformPressure)
+{
+  // Lamé's thick ring against a hand evaluation: bore 40 mm, outside 60 mm,
+  // steel: 0.04 / 2.08e11 × (5200/2000 + 0.3) m/Pa.
+  const double steel = lame_bore_compliance(0.04, 0.06, 2.08e11, 0.3);
+  EXPECT_NEAR(steel, 0.04 / 2.08e11 * 2.9, 1e-12 * steel);
+  EXPECT_THROW(lame_bore_compliance(0.04, 0.04, 2.08e11, 0.3), std::invalid_argument);
+
+  // One axial row: a uniform penetration is an eigenvector of the closed
+  // grid's kernel, so the pressure is uniform and exactly b / (C_0 + 1/k_n),
+  // C_0 the wall's — whatever the half-space's own uniform give. Tolerance:
+  // the solve's stopping gap, 1e-7 of b, relative to C_0's share.
+  const double radius = 0.04, k_n = 1e16, b = 10e-6;
+  const auto   row    = contact::SurfaceGrid::centred(96, 1, M_PI * radius, 0.009);
+  for (const double wall : {steel, lame_bore_compliance(0.04, 0.06, 7e10, 0.33)})
+    {
+      LocalCompliance local(row, 2.3e11, k_n, true, LocalCompliance::default_sensitivity_tolerance, {}, {},
+                            UniformCompliance{wall});
+      contact::Field pressure(row.size(), 0.0);
+      local.solve(contact::Field(row.size(), b), pressure);
+      const double expected = b / (wall + 1.0 / k_n);
+      for (const double p : pressure)
+        EXPECT_NEAR(p, expected, 1e-6 * expected);
+    }
+  // Without a wall the half-space's own give sets it: another pressure.
+  LocalCompliance half_space(row, 2.3e11, k_n, true);
+  contact::Field  pressure(row.size(), 0.0);
+  half_space.solve(contact::Field(row.size(), b), pressure);
+  EXPECT_GT(std::abs(pressure[0] - b / (steel + 1.0 / k_n)), 0.05 * pressure[0]);
+
+  // Across the width the shift must leave the kernel positive definite: a
+  // wall far stiffer than the half-space's mean give cannot be represented.
+  const auto strip = contact::SurfaceGrid::centred(96, 8, M_PI * radius, 0.009);
+  EXPECT_THROW(LocalCompliance(strip, 2.3e11, k_n, true, LocalCompliance::default_sensitivity_tolerance, {}, {},
+                               UniformCompliance{1e-25}),
+               std::invalid_argument);
+  EXPECT_THROW(LocalCompliance(strip, 2.3e11, k_n, false, LocalCompliance::default_sensitivity_tolerance, {}, {},
+                               UniformCompliance{steel}),
+               std::invalid_argument);
+}

@@ -34,6 +34,25 @@ namespace fretsim::coupling
     double wavelength = 0.0;
   };
 
+  /// A housing ring's response to a pressure uniform over the whole interface
+  /// (the fit's): where `compliance` C_0 > 0 [m/Pa], the half-space's mean
+  /// give under a uniform unit pressure is replaced by C_0 (a constant added
+  /// to every entry of the kernel changes only that mode), so that a fit's
+  /// pressure follows the housing's wall rather than the half-space, whose
+  /// uniform give on a closed strip depends on the grid's width alone.
+  /// Lamé's thick ring in plane stress, bore b, outside c, free outside:
+  /// C_0 = b/E ((c² + b²)/(c² − b²) + ν) (`lame_bore_compliance`).
+  struct UniformCompliance
+  {
+    double compliance = 0.0;
+  };
+
+  /// Lamé's inward-positive bore displacement per unit bore pressure of a
+  /// free thick ring (plane stress) [m/Pa]; throws std::invalid_argument
+  /// unless 0 < bore < outside.
+  double lame_bore_compliance(double bore_radius, double outer_radius, double youngs_modulus,
+                              double poisson_ratio);
+
   class LocalCompliance
   {
   public:
@@ -54,10 +73,14 @@ namespace fretsim::coupling
     /// pressure on cell (0, jj) [m/Pa], taken as invariant around the
     /// circumference (periodic_x), made symmetric (reciprocity) and even in
     /// x (the ring's mirror symmetry) by averaging, and completed by
-    /// `completion` (with a structural compliance only).
+    /// `completion` (with a structural compliance only). `uniform`: the
+    /// housing's give under a uniform pressure (periodic_x with a half-space
+    /// only); throws std::invalid_argument if the kernel would then lose
+    /// positive definiteness.
     LocalCompliance(const contact::SurfaceGrid &grid, double contact_modulus, double layer_stiffness,
                     bool periodic_x, double sensitivity_tolerance = default_sensitivity_tolerance,
-                    const std::vector<double> &structural_compliance = {}, const HalfSpaceCompletion &completion = {});
+                    const std::vector<double> &structural_compliance = {}, const HalfSpaceCompletion &completion = {},
+                    const UniformCompliance &uniform = {});
     ~LocalCompliance();
 
     /// Solves the contact of the layer on the half-space for the structural

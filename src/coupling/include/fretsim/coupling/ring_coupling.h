@@ -158,6 +158,10 @@ namespace fretsim::coupling
     /// interface's local compliance (LocalCompliance), 1/E' = Σ (1 - ν²)/E
     /// over the bodies it stands for; 0: none, the layer alone.
     double local_compliance_modulus = 0.0;
+    /// With the half-space: the housing's give under a uniform bore pressure
+    /// (UniformCompliance, e.g. lame_bore_compliance); 0: the half-space's
+    /// own [m/Pa].
+    double housing_uniform_compliance = 0.0;
     /// λ_c [m] of the residual flexibility's half-space completion
     /// (ReducedRing::residual_half_space_modulus; HalfSpaceCompletion):
     /// in full below it, fading out up to 2 λ_c.

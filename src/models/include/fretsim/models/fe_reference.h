@@ -13,7 +13,8 @@
 //   equilibrium of the ring: the interface forces balance the balls' loads (six rigid motions as multipliers),
 // the law by secant iterations (each a symmetric positive definite system on
 // the loaded cells, solved by projected conjugate gradients with the
-// closed grid's FFT-block inverse as preconditioner), the contact set by
+// closed grid's FFT-block inverse as preconditioner, sliding cells' bristle
+// blocks inverted on their own), the contact set by
 // active-set updates. The stresses below every cell on the tables' depth
 // layers follow from the same tables.
 #include <fretsim/models/interface_influence.h>

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -46,6 +47,8 @@ namespace fretsim::models
     std::unique_ptr<contact::SurfaceConvolution> preconditioner;
     std::unique_ptr<RingStressTable>             stress; ///< null: tables without stresses
     std::array<Vector, 6>     rigid;                         ///< B: rigid motions at the cells, [3][cell]
+    Vector                    tangential_self; ///< the grid's own tangential compliance at each cell [m/Pa]
+    static constexpr double   loose_ratio = 1.0;
 
     // State: tractions (p and the bristles' τ_b = −shear on the ring), the
     // committed bristles and relative slip, the last loads.
@@ -76,6 +79,7 @@ namespace fretsim::models
       if (ring.layers() > 0)
         stress = std::make_unique<RingStressTable>(ring);
       build_rigid_motions();
+      build_tangential_self();
       x.assign(n, 0.0);
       tau_committed.assign(2 * cells, 0.0);
       slip_committed.assign(2 * cells, 0.0);
@@ -107,6 +111,28 @@ namespace fretsim::models
       std::fill(diagonal.begin(), diagonal.begin() + ny, 1.0 / law.normal_stiffness);
       preconditioner = std::make_unique<contact::SurfaceConvolution>(
         StackedConvolution(nx, 3 * ny, period, kernel, diagonal).inverse());
+    }
+
+    /// The diagonal of the compliance's tangential rows, max of the two
+    /// directions, per cell (it repeats along θ with the period).
+    void build_tangential_self()
+    {
+      tangential_self.assign(cells, 0.0);
+      Vector unit(n, 0.0), y;
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < period && i < nx; ++i)
+          for (int t = 1; t <= 2; ++t)
+            {
+              const std::size_t k = t * cells + static_cast<std::size_t>(j) * nx + i;
+              unit[k]             = 1.0;
+              apply_compliance(unit, y);
+              unit[k] = 0.0;
+              for (int i2 = i; i2 < nx; i2 += period)
+                {
+                  const std::size_t c = static_cast<std::size_t>(j) * nx + i2;
+                  tangential_self[c]  = std::max(tangential_self[c], y[k]);
+                }
+            }
     }
 
     /// The six rigid motions of the ring at the cell centres, (u_r, u_θ, u_z).
@@ -168,12 +194,26 @@ namespace fretsim::models
     /// Projected preconditioned conjugate gradients on the active unknowns,
     /// the others held at their values in `solution`, the rigid motions not
     /// in `free_modes` held at theirs in `e`:
-    ///   (C + diag) x − B e = rhs on the active rows, Bᵀ x = f for the free modes.
-    /// Returns the iterations.
-    int solve_linear(const std::vector<char> &active, const Vector &diagonal, const Vector &given_rhs,
-                     const std::array<double, 6> &f, const std::array<bool, 6> &free_modes, Vector &solution,
-                     std::array<double, 6> &e) const
+    ///   (C + L) x − B e = rhs on the active rows, Bᵀ x = f for the free modes,
+    /// L the layer's and the bristles' compliance: `diagonal` on every row
+    /// and `coupling` [cell] between a cell's two tangential rows (symmetric,
+    /// positive definite per cell). Returns the iterations.
+    /// The preconditioner: the closed grid's inverse with the layer and the
+    /// stuck bristles' compliance, except on the tangential rows of the cells
+    /// whose bristle compliance exceeds the grid's own there several times
+    /// (sliding cells), which take the inverse of their 2 × 2 block of L.
+    int solve_linear(const std::vector<char> &active, const Vector &diagonal, const Vector &coupling,
+                     const Vector &given_rhs, const std::array<double, 6> &f, const std::array<bool, 6> &free_modes,
+                     Vector &solution, std::array<double, 6> &e) const
     {
+      std::vector<char> loose(cells, 0);
+      for (std::size_t c = 0; c < cells; ++c)
+        if (active[cells + c] && active[2 * cells + c])
+          {
+            const double a = diagonal[cells + c], b = coupling[c], d = diagonal[2 * cells + c];
+            const double smallest = 0.5 * (a + d) - std::sqrt(0.25 * (a - d) * (a - d) + b * b);
+            loose[c] = smallest > loose_ratio * (tangential_self[c] + 1.0 / law.tangential_stiffness);
+          }
       // What the held unknowns and motions contribute.
       Vector held(n, 0.0), rhs(n, 0.0), y;
       for (std::size_t k = 0; k < n; ++k)
@@ -231,12 +271,31 @@ namespace fretsim::models
         apply_compliance(v, out);
         for (std::size_t k = 0; k < n; ++k)
           out[k] = active[k] ? out[k] + diagonal[k] * v[k] : 0.0;
+        for (std::size_t c = 0; c < cells; ++c)
+          if (coupling[c] != 0.0 && active[cells + c] && active[2 * cells + c])
+            {
+              out[cells + c] += coupling[c] * v[2 * cells + c];
+              out[2 * cells + c] += coupling[c] * v[cells + c];
+            }
       };
+      Vector     r_held(n);
       const auto precondition = [&](const Vector &r, Vector &z) {
-        compliance->apply_with(*preconditioner, r, z);
+        r_held = r;
+        for (std::size_t c = 0; c < cells; ++c)
+          if (loose[c])
+            r_held[cells + c] = r_held[2 * cells + c] = 0.0;
+        compliance->apply_with(*preconditioner, r_held, z);
         for (std::size_t k = 0; k < n; ++k)
           if (!active[k])
             z[k] = 0.0;
+        for (std::size_t c = 0; c < cells; ++c)
+          if (loose[c])
+            {
+              const double a = diagonal[cells + c], b = coupling[c], d = diagonal[2 * cells + c],
+                           det = a * d - b * b;
+              z[cells + c]     = (d * r[cells + c] - b * r[2 * cells + c]) / det;
+              z[2 * cells + c] = (a * r[2 * cells + c] - b * r[cells + c]) / det;
+            }
         project(z);
       };
 
@@ -342,34 +401,97 @@ namespace fretsim::models
         for (std::size_t h = 0; h < 2 * cells; ++h)
           slip_increment[h] = s[h] - slip_committed[h];
       };
+      Vector coupling(cells, 0.0);
+      const bool tangent = friction && !settings.secant_iterations;
+      // The tangent while the law's residual shrinks; once it grows (a slip
+      // turning, the contact set moving), the secant iterations.
+      const double floor_now = settings.tangent_floor;
+      double       last_change = std::numeric_limits<double>::infinity();
+      bool         secant_now = !tangent; // the secant iterations, from the tangent's when it fails
+      int          secant_start = 0;
       for (; iterations < settings.max_iterations; ++iterations)
         {
-          // The bristles' secant at the slip and pressure so far; a cell
-          // without pressure yet transmits no shear in this solve.
+          // The bristles' law linearised at the slip and pressure so far; a
+          // cell without pressure yet transmits no shear in this solve.
           std::fill(active.begin(), active.end(), 0);
           std::copy(contact.begin(), contact.end(), active.begin());
           for (std::size_t c = 0; c < cells && friction; ++c)
-            for (int t = 0; t < 2; ++t)
-              {
-                const std::size_t k = (1 + t) * cells + c, h = t * cells + c;
-                const double      mu_p = mu * x[c];
-                if (!contact[c] || !(mu_p > 0.0))
-                  {
-                    x[k] = 0.0;
-                    continue;
-                  }
-                active[k]          = 1;
-                const double ds    = std::hypot(slip_increment[c], slip_increment[cells + c]);
-                const double numer = std::hypot(tau_committed[c] + kt * slip_increment[c],
-                                                tau_committed[cells + c] + kt * slip_increment[cells + c]);
-                double       secant = 1.0 + kt * ds / mu_p;
-                if (numer > mu_p * secant)
-                  secant = numer / mu_p; // the Coulomb clamp
-                // geometric relaxation: the secant swings where the slip turns
-                diagonal[k] = iterations == 0 || diagonal[k] <= 0.0 ? secant / kt : std::sqrt(diagonal[k] * secant / kt);
-                rhs[k]      = tau_committed[h] / kt + inc.ball[k] - slip_committed[h];
-              }
-          linear += solve_linear(active, diagonal, rhs, inc.force, all_modes, x, e);
+            {
+              const double mu_p = mu * x[c];
+              if (!contact[c] || !(mu_p > 0.0))
+                {
+                  x[cells + c] = x[2 * cells + c] = 0.0;
+                  coupling[c]                     = 0.0;
+                  continue;
+                }
+              active[cells + c] = active[2 * cells + c] = 1;
+              const double ds_x = slip_increment[c], ds_y = slip_increment[cells + c];
+              const double tau_x = tau_committed[c], tau_y = tau_committed[cells + c];
+              const double numer  = std::hypot(tau_x + kt * ds_x, tau_y + kt * ds_y);
+              double       secant = 1.0 + kt * std::hypot(ds_x, ds_y) / mu_p;
+              if (numer > mu_p * secant)
+                secant = numer / mu_p; // the Coulomb clamp
+              if (secant_now)
+                {
+                  for (int t = 0; t < 2; ++t)
+                    {
+                      const std::size_t k = (1 + t) * cells + c, h = t * cells + c;
+                      // geometric relaxation: the secant swings where the slip turns
+                      diagonal[k] = iterations == secant_start || diagonal[k] <= 0.0 ? secant / kt
+                                                                         : std::sqrt(diagonal[k] * secant / kt);
+                      rhs[k] = tau_committed[h] / kt + inc.ball[k] - slip_committed[h];
+                    }
+                  coupling[c] = 0.0;
+                  continue;
+                }
+              // The tangent: τ ≈ F + K (Δs − Δs⁰), K the symmetric part of
+              // ∂τ'/∂Δs with its eigenvalues kept above a fraction of the
+              // secant's k_t/secant (where the cell slides, τ' hardly
+              // changes along the slip). In compliance form, with
+              // Δs = s_0 + B e − (C x)_t − s_old:
+              //   (C x)_t + K⁻¹ τ − B e = K⁻¹ F − Δs⁰ + s_0 − s_old.
+              contact::BristleStepDerivatives derivatives;
+              const bool sliding_on = std::hypot(tau_x, tau_y) >= (1.0 - 1e-3) * mu_p;
+              const contact::BristleStep law_now =
+                contact::bristle_step(tau_x, tau_y, kt, mu, x[c], ds_x, ds_y, sliding_on, derivatives);
+              Eigen::Matrix2d stiffness;
+              stiffness << derivatives.by_slip[0][0], derivatives.by_slip[0][1], derivatives.by_slip[1][0],
+                derivatives.by_slip[1][1];
+              const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> split(0.5 * (stiffness + stiffness.transpose()));
+              const double          floor = floor_now * kt / secant;
+              const Eigen::Vector2d inverse =
+                split.eigenvalues().cwiseMax(floor).cwiseInverse();
+              const Eigen::Matrix2d compliance_cell =
+                split.eigenvectors() * inverse.asDiagonal() * split.eigenvectors().transpose();
+              const Eigen::Vector2d rhs_cell = compliance_cell * Eigen::Vector2d(law_now.x, law_now.y) -
+                                               Eigen::Vector2d(ds_x, ds_y) +
+                                               Eigen::Vector2d(inc.ball[cells + c] - slip_committed[c],
+                                                               inc.ball[2 * cells + c] - slip_committed[cells + c]);
+              diagonal[cells + c]     = compliance_cell(0, 0);
+              diagonal[2 * cells + c] = compliance_cell(1, 1);
+              coupling[c]             = compliance_cell(0, 1);
+              rhs[cells + c]          = rhs_cell(0);
+              rhs[2 * cells + c]      = rhs_cell(1);
+            }
+          if (!secant_now)
+            {
+              const Vector                start = x;
+              const std::array<double, 6> start_e = e;
+              try
+                {
+                  linear += solve_linear(active, diagonal, coupling, rhs, inc.force, all_modes, x, e);
+                }
+              catch (const std::runtime_error &)
+                { // the linear solve with a soft tangent failed: again with the secant
+                  x            = start;
+                  e            = start_e;
+                  secant_now   = true;
+                  secant_start = iterations + 1;
+                  continue;
+                }
+            }
+          else
+            linear += solve_linear(active, diagonal, coupling, rhs, inc.force, all_modes, x, e);
           update_slip();
           // The contact set: cells pulled apart leave, cells penetrating join
           // (beyond the tolerance, so that a cell at the edge, whose pressure
@@ -401,6 +523,14 @@ namespace fretsim::models
                                         slip_increment[c], slip_increment[cells + c]);
                 change = std::max({change, std::abs(exact.x - x[cells + c]), std::abs(exact.y - x[2 * cells + c])});
               }
+          const double relative = change / (std::max(mu, 1.0) * std::max(p_max, 1e-300));
+          const bool grew = relative > last_change;
+          last_change     = relative;
+          if (!secant_now && grew)
+            {
+              secant_now   = true;
+              secant_start = iterations + 1;
+            }
           if (changes == 0 && change <= settings.tolerance * std::max(mu, 1.0) * p_max)
             {
               ++iterations;

@@ -13,7 +13,8 @@
 //   equilibrium of the ring: the interface forces balance the balls' loads (six rigid motions as multipliers),
 // the law by secant iterations (each a symmetric positive definite system on
 // the loaded cells, solved by projected conjugate gradients with the
-// closed grid's FFT-block inverse as preconditioner), the contact set by
+// closed grid's FFT-block inverse as preconditioner, sliding cells' bristle
+// blocks inverted on their own), the contact set by
 // active-set updates. The stresses below every cell on the tables' depth
 // layers follow from the same tables.
 #include <fretsim/models/interface_influence.h>
@@ -44,7 +45,12 @@ namespace fretsim::models
     int    substeps  = 4;    ///< increments between two given instants (loads and angles linear in between)
     double tolerance = 1e-5; ///< law and contact set: traction change below this × μ p_max (or p_max)
     double linear_tolerance = 1e-9; ///< conjugate gradients: relative residual
-    int    max_iterations   = 500;  ///< secant and active-set iterations per increment
+    int    max_iterations   = 500;  ///< friction-law and active-set iterations per increment
+    /// true: the bristle law by secant iterations (each linear solve with the
+    /// law's secant, geometrically relaxed); false: by its symmetrised
+    /// tangent while the law's residual shrinks, then by secant iterations.
+    bool   secant_iterations = true;
+    double tangent_floor     = 1e-2; ///< the tangent's stiffness kept above this × the secant's
   };
 
   /// The state at an instant.

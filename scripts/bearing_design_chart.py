@@ -3,11 +3,13 @@
 steel and an aluminium housing.
 
     scripts/bearing_design_chart.py [-o DIR] [--passes N] [--fits A:B:N]
-                                    [--displacements A:B:N] [--ranks R]
+                                    [--displacements A:B:N] [--wall C] [--ranks R]
 
 Runs `fretsim map` on configs/paper_dgbb_housing.prm once per housing
 material, over the radial interference (default 0-30 um, 4 values) and the
-inner ring's displacement (default 30-90 um, 3 values: the load), N ball
+inner ring's displacement (default 30-90 um, 3 values: the load), the
+housing's wall C its outside radius (default 0.06 m: the 80/120 mm housing
+of configs/housing_6208_reduce.prm), N ball
 passes after the ramp (2 by default), each map under `mpirun -np R` when
 R > 1 (default: the machine's cores; as root with OpenMPI's
 OMPI_ALLOW_RUN_AS_ROOT and _CONFIRM set for it). Writes DIR/design_chart.csv (one row
@@ -55,6 +57,7 @@ def run_map(directory, material, args):
                 "--axis", f"{FIT}={args.fits}", "--axis", f"{DISPLACEMENT}={args.displacements}",
                 "--set", f"Interface/Housing Young's modulus={modulus:g}",
                 "--set", f"Interface/Housing Poisson ratio={poisson:g}",
+                "--set", f"Interface/Housing outer radius={args.wall:g}",
                 "--set", f"Loading/Ball pass periods={args.passes:g}"]
     env = dict(os.environ)
     if os.geteuid() == 0:  # OpenMPI refuses root without both
@@ -87,6 +90,7 @@ def main():
     parser.add_argument("--passes", type=float, default=2.0)
     parser.add_argument("--fits", default="0:30e-6:4")
     parser.add_argument("--displacements", default="30e-6:90e-6:3")
+    parser.add_argument("--wall", type=float, default=0.06)
     parser.add_argument("--ranks", type=int, default=os.cpu_count() or 1)
     args = parser.parse_args()
     fits, displacements = axis_values(args.fits), axis_values(args.displacements)
@@ -125,8 +129,8 @@ def main():
                         ha="right", va="bottom", color="w")
     axes[0].set_ylabel("inner ring pushed [µm] (labels: peak ball load)")
     fig.colorbar(filled, ax=axes, label="D_max at the seat (Dang Van; red: D = 1)")
-    fig.suptitle(f"6208 outer ring seat: fretting-fatigue risk over fit and load, {args.passes:g} ball passes, "
-                 "μ 0.11", fontsize=10)
+    fig.suptitle(f"6208 outer ring seat: fretting-fatigue risk over fit and load, housing outside "
+                 f"{2e3 * args.wall:g} mm, {args.passes:g} ball passes, μ 0.11", fontsize=10)
     png_path = os.path.join(args.o, "design_chart.png")
     fig.savefig(png_path, dpi=120)
     print(csv_path)

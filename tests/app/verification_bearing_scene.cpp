@@ -574,7 +574,7 @@ TEST(BearingScene, AHousingWallTakesTheFitInSeriesWithTheRing)
   // C_wall Lamé's for the housing's wall (Interface/Housing outer radius).
   // The ring's own uniform give C_ring, inferred from a steel housing of
   // 60 mm outside, must predict the pressure of an aluminium one and of a
-  // thinner steel wall. Measured: within 0.3 % and 0.1 %; tolerance 1 %
+  // thinner steel wall. Measured: within 0.1 % and 0.03 %; tolerance 1 %
   // (the pressure's spread across the width differs a little between them).
   const auto dir = scratch_directory("bearing_scene_housing_wall");
   write_text(dir / "ring.prm", small_ring);

@@ -1000,6 +1000,8 @@ namespace fretsim::scenes
           local.set("jacobian_sensitivities", static_cast<long long>(stats.local_compliance.sensitivities));
           local.set("jacobian_convolutions", static_cast<long long>(stats.local_compliance.sensitivity_convolutions));
           local.set("jacobian_reuses", static_cast<long long>(stats.local_compliance.sensitivity_reuses));
+          local.set("jacobian_factorisations",
+                    static_cast<long long>(stats.local_compliance.sensitivity_factorisations));
           summary.set_object("local_compliance_solver", local);
         }
       output::Summary stage_times;

@@ -532,6 +532,7 @@ TEST(LocalCompliance, AHousingWallSetsTheFitsUniformPressure)
   EXPECT_THROW(LocalCompliance(strip, 2.3e11, k_n, false, LocalCompliance::default_sensitivity_tolerance, {}, {},
                                UniformCompliance{steel}),
                std::invalid_argument);
+}
 
 TEST(LocalCompliance, TheSensitivityIsExactOnAnIllConditionedStructuralCompliance)
 {

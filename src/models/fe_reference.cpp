@@ -48,7 +48,6 @@ namespace fretsim::models
     std::unique_ptr<RingStressTable>             stress; ///< null: tables without stresses
     std::array<Vector, 6>     rigid;                         ///< B: rigid motions at the cells, [3][cell]
     Vector                    tangential_self; ///< the grid's own tangential compliance at each cell [m/Pa]
-    static constexpr double   loose_ratio = 1.0;
 
     // State: tractions (p and the bristles' τ_b = −shear on the ring), the
     // committed bristles and relative slip, the last loads.
@@ -200,8 +199,9 @@ namespace fretsim::models
     /// positive definite per cell). Returns the iterations.
     /// The preconditioner: the closed grid's inverse with the layer and the
     /// stuck bristles' compliance, except on the tangential rows of the cells
-    /// whose bristle compliance exceeds the grid's own there several times
-    /// (sliding cells), which take the inverse of their 2 × 2 block of L.
+    /// whose bristle compliance (the smaller eigenvalue of their 2 × 2 block
+    /// of L) exceeds the grid's own there plus a stuck bristle's (sliding
+    /// cells), which take the inverse of that block.
     int solve_linear(const std::vector<char> &active, const Vector &diagonal, const Vector &coupling,
                      const Vector &given_rhs, const std::array<double, 6> &f, const std::array<bool, 6> &free_modes,
                      Vector &solution, std::array<double, 6> &e) const
@@ -212,7 +212,7 @@ namespace fretsim::models
           {
             const double a = diagonal[cells + c], b = coupling[c], d = diagonal[2 * cells + c];
             const double smallest = 0.5 * (a + d) - std::sqrt(0.25 * (a - d) * (a - d) + b * b);
-            loose[c] = smallest > loose_ratio * (tangential_self[c] + 1.0 / law.tangential_stiffness);
+            loose[c] = smallest > tangential_self[c] + 1.0 / law.tangential_stiffness;
           }
       // What the held unknowns and motions contribute.
       Vector held(n, 0.0), rhs(n, 0.0), y;
@@ -405,7 +405,6 @@ namespace fretsim::models
       const bool tangent = friction && !settings.secant_iterations;
       // The tangent while the law's residual shrinks; once it grows (a slip
       // turning, the contact set moving), the secant iterations.
-      const double floor_now = settings.tangent_floor;
       double       last_change = std::numeric_limits<double>::infinity();
       bool         secant_now = !tangent; // the secant iterations, from the tangent's when it fails
       int          secant_start = 0;
@@ -458,7 +457,7 @@ namespace fretsim::models
               stiffness << derivatives.by_slip[0][0], derivatives.by_slip[0][1], derivatives.by_slip[1][0],
                 derivatives.by_slip[1][1];
               const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> split(0.5 * (stiffness + stiffness.transpose()));
-              const double          floor = floor_now * kt / secant;
+              const double          floor = settings.tangent_floor * kt / secant;
               const Eigen::Vector2d inverse =
                 split.eigenvalues().cwiseMax(floor).cwiseInverse();
               const Eigen::Matrix2d compliance_cell =

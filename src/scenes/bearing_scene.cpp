@@ -325,7 +325,7 @@ namespace fretsim::scenes
         text("Compare/Results file", "",
              "`fretsim compare` and `fretsim reference`: the run to compare; empty: results/<this file's "
              "name>/results.h5 [-]."),
-        text("Reference/Meshes", "180x2x3x4x1; 360x3x4x6x2; 360x4x6x8x3",
+        text("Reference/Meshes", "360x3x4x6x2; 360x4x6x8x3",
              "`fretsim reference`: the full-FE meshes of ring and housing, coarse to fine, ';'-separated, each "
              "'around x radial ring x radial housing x axial x axial land' cells (the reduction configuration's "
              "geometry and material). The march's cost grows with P = grid columns / gcd(columns, cells around), "

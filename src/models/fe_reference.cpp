@@ -408,6 +408,10 @@ namespace fretsim::models
       double       last_change = std::numeric_limits<double>::infinity();
       bool         secant_now = !tangent; // the secant iterations, from the tangent's when it fails
       int          secant_start = 0;
+      const auto   switch_to_secant = [&] {
+        secant_now   = true;
+        secant_start = iterations + 1;
+      };
       for (; iterations < settings.max_iterations; ++iterations)
         {
           // The bristles' law linearised at the slip and pressure so far; a
@@ -482,10 +486,9 @@ namespace fretsim::models
                 }
               catch (const std::runtime_error &)
                 { // the linear solve with a soft tangent failed: again with the secant
-                  x            = start;
-                  e            = start_e;
-                  secant_now   = true;
-                  secant_start = iterations + 1;
+                  x = start;
+                  e = start_e;
+                  switch_to_secant();
                   continue;
                 }
             }
@@ -526,11 +529,8 @@ namespace fretsim::models
           const bool grew = relative > last_change;
           last_change     = relative;
           if (!secant_now && grew)
-            {
-              secant_now   = true;
-              secant_start = iterations + 1;
-            }
-          if (changes == 0 && change <= settings.tolerance * std::max(mu, 1.0) * p_max)
+            switch_to_secant();
+          if (changes == 0 && relative <= settings.tolerance)
             {
               ++iterations;
               break;

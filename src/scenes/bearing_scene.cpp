@@ -429,7 +429,8 @@ namespace fretsim::scenes
       interface.in_step_bristle_law  = s.in_step_bristle_law == "implicit Euler"
                                          ? coupling::InStepBristleLaw::implicit_euler
                                          : coupling::InStepBristleLaw::linearised;
-      s.local_compliance = par.get("Interface/Local compliance");
+      s.local_compliance          = par.get("Interface/Local compliance");
+      const double housing_outside = par.get_double("Interface/Housing outer radius");
       if (const std::string local = s.local_compliance; local != "none")
         {
           if (s.housing_model)
@@ -440,19 +441,17 @@ namespace fretsim::scenes
                                  par.get_double("Interface/Housing Poisson ratio")};
           interface.local_compliance_modulus =
             local == "both" ? contact::MaterialPair{ring_material, housing}.contact_modulus() : housing.plane_modulus();
-          if (const double outside = par.get_double("Interface/Housing outer radius"); outside > 0.0)
+          if (housing_outside > 0.0 && local == "housing")
             {
-              if (local != "housing")
-                par.reject("Interface/Housing outer radius", "0 unless Local compliance = housing");
-              if (!(outside > ring_outer_radius))
+              if (!(housing_outside > ring_outer_radius))
                 par.reject("Interface/Housing outer radius",
                            "0 or more than the housing's bore, the ring's outer radius " + std::to_string(ring_outer_radius) +
                              " m");
-              interface.housing_uniform_compliance =
-                coupling::lame_bore_compliance(ring_outer_radius, outside, housing.youngs_modulus, housing.poisson_ratio);
+              interface.housing_uniform_compliance = coupling::lame_bore_compliance(
+                ring_outer_radius, housing_outside, housing.youngs_modulus, housing.poisson_ratio);
             }
         }
-      else if (par.get_double("Interface/Housing outer radius") > 0.0)
+      if (housing_outside > 0.0 && s.local_compliance != "housing")
         par.reject("Interface/Housing outer radius", "0 unless Local compliance = housing");
       s.ring_residual = par.get_bool("Interface/Ring residual flexibility");
       if (s.ring_residual && s.local_compliance == "both")

@@ -16,6 +16,7 @@
 #include <fretsim/support/run_control.h>
 
 #include <fretsim/fem/library_info.h>
+#include <fretsim/fem/parallel_environment.h>
 #include <fretsim/reduction/library_info.h>
 
 #include <CLI/CLI.hpp>
@@ -65,17 +66,8 @@ namespace fretsim::app
         .string();
     }
 
-    /// The rank of this process in an MPI job started by mpiexec (0 alone):
-    /// the folder is claimed once, by rank 0, before MPI starts.
-    int launcher_rank()
-    {
-      for (const char *name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"})
-        if (const char *value = std::getenv(name))
-          return std::atoi(value);
-      return 0;
-    }
-
-    /// Claims a command's output folder: every rank checks it, rank 0 takes it.
+    /// Claims a command's output folder: every rank checks it, rank 0 takes it
+    /// (before MPI starts).
     std::unique_ptr<OutputFolder> claim_output(const std::string &folder, std::vector<std::string> own_files,
                                                bool force)
     {
@@ -156,6 +148,15 @@ namespace fretsim::app
           return exit_ok;
         }
       check_resources(estimate, config_file, output_directory);
+      if (started_by_mpi_launcher())
+        { // the ranks build the scene's models together; the run itself is rank 0's
+          {
+            const fem::ParallelEnvironment mpi;
+            scenes::make_scene(scenes::load_parameters(config_file, parse_overrides(options.settings)))->prepare();
+          }
+          if (launcher_rank() != 0)
+            return exit_ok;
+        }
       const OutputFolder folder(output_directory, policy);
       const auto         scene = scenes::make_scene(std::move(parameters));
       install_interrupt_handlers();

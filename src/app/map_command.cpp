@@ -514,11 +514,7 @@ namespace fretsim::app
 
       void open()
       {
-        // Started by mpirun/mpiexec/srun (Open MPI, PMIx or MPICH's PMI)?
-        bool launched = false;
-        for (const char *name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_SIZE"})
-          launched = launched || std::getenv(name) != nullptr;
-        if (!fem::ParallelEnvironment::active() && (launched || map.scene != "concentrated"))
+        if (!fem::ParallelEnvironment::active() && (started_by_mpi_launcher() || map.scene != "concentrated"))
           mpi = std::make_unique<fem::ParallelEnvironment>();
         r    = ranks();
         root = r.rank == 0;

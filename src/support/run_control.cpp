@@ -6,6 +6,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -281,5 +282,21 @@ namespace fretsim::app
     out.precision(bytes < 10.0 ? 2 : 3);
     out << bytes << " " << units[unit];
     return out.str();
+  }
+
+  bool started_by_mpi_launcher()
+  {
+    for (const char *name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_SIZE"})
+      if (std::getenv(name) != nullptr)
+        return true;
+    return false;
+  }
+
+  int launcher_rank()
+  {
+    for (const char *name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"})
+      if (const char *value = std::getenv(name))
+        return std::atoi(value);
+    return 0;
   }
 } // namespace fretsim::app

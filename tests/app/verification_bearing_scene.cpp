@@ -140,6 +140,58 @@ TEST(BearingScene, RunsEndToEndAndTheInterfaceSeesTheBallPass)
             (std::vector<std::pair<std::string, std::string>>{{"Reduction/Characteristic constraint modes", "20"}}));
 }
 
+TEST(BearingScene, UnderMpiexecTheRanksBuildTheModelsAndRankZeroRunsAlone)
+{
+  // `mpiexec -np 2 fretsim run`: both ranks build the ring's model and stress
+  // tables together, then rank 0 runs the scene into the folder (the other
+  // rank writes nothing and exits 0). Against a serial build: the same model
+  // — the reduced free frequencies within 1e-7 (the interface modes' solver
+  // tolerance; the basis itself may differ by a rotation within a pair of
+  // equal frequencies) — and D_max within 1 %: the
+  // time integrator's error control weighs the modal coordinates one by one,
+  // so a rotated basis takes other steps (measured 864 vs 803 steps, 0.43 %).
+  ASSERT_EQ(std::system("command -v mpiexec > /dev/null 2>&1"), 0) << "mpiexec comes with the MPI packages";
+  const auto  parallel_dir = scratch_directory("bearing_scene_np2"), serial_dir = scratch_directory("bearing_scene_np1");
+  const std::string short_run = " --set 'Loading/Ball pass periods=1'";
+  for (const auto &dir : {parallel_dir, serial_dir})
+    {
+      write_text(dir / "ring.prm", small_ring);
+      write_text(dir / "scene.prm", scene(dir));
+    }
+  const auto        log = parallel_dir / "np2.log";
+  const std::string mpi = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpiexec -np 2 --oversubscribe " +
+                          std::string(FRETSIM_BINARY_DIR) + "/fretsim run " + (parallel_dir / "scene.prm").string() +
+                          " -q --no-plots -o " + (parallel_dir / "out").string() + short_run + " > " + log.string() +
+                          " 2>&1";
+  ASSERT_EQ(std::system(mpi.c_str()), 0) << read_text(log);
+  const std::string output = read_text(log);
+  EXPECT_TRUE(std::filesystem::exists(parallel_dir / "model.h5"));
+  EXPECT_TRUE(std::filesystem::exists(parallel_dir / "ring-stress-tables.h5"));
+  // One run: the results are printed once.
+  EXPECT_EQ(output.find("summary:"), output.rfind("summary:")) << output;
+  const auto serial = run_program("run " + (serial_dir / "scene.prm").string() + " -q --no-plots -o " +
+                                  (serial_dir / "out").string() + short_run);
+  ASSERT_EQ(serial.exit_code, 0) << serial.output;
+  const auto   parallel_summary = read_text(parallel_dir / "out" / "summary.json");
+  const auto   serial_summary   = read_text(serial_dir / "out" / "summary.json");
+  const double d_parallel = summary_number(parallel_summary, "risk_max"), d_serial = summary_number(serial_summary, "risk_max");
+  std::printf("D_max: two ranks' model %.12g, serial model %.12g\n", d_parallel, d_serial);
+  ASSERT_GT(d_serial, 0.0);
+  EXPECT_NEAR(d_parallel, d_serial, 0.01 * d_serial);
+  const auto parallel_model = fretsim::reduction::read_model_file((parallel_dir / "model.h5").string());
+  const auto serial_model   = fretsim::reduction::read_model_file((serial_dir / "model.h5").string());
+  ASSERT_EQ(parallel_model.free_frequencies_hz.size(), serial_model.free_frequencies_hz.size());
+  const double highest = serial_model.free_frequencies_hz.back();
+  for (std::size_t k = 0; k < serial_model.free_frequencies_hz.size(); ++k)
+    {
+      const double f_parallel = parallel_model.free_frequencies_hz[k], f_serial = serial_model.free_frequencies_hz[k];
+      if (f_serial < 1e-3 * highest) // a rigid motion: round-off of a zero eigenvalue in both
+        EXPECT_LT(f_parallel, 1e-3 * highest) << "mode " << k;
+      else
+        EXPECT_NEAR(f_parallel, f_serial, 1e-7 * f_serial) << "mode " << k;
+    }
+}
+
 TEST(BearingScene, AFlexibleHousingTakesItsShareAndAStiffOneIsTheRigidHousing)
 {
   // The housing as its own Craig–Bampton model (held at its outside, reduced

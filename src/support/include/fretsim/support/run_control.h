@@ -18,6 +18,13 @@ namespace fretsim::app
   /// The signal number received, 0 if none.
   int interrupt_signal();
 
+  /// Whether an MPI launcher (mpirun, mpiexec, srun: Open MPI, PMIx or
+  /// MPICH's PMI) started this process, read from its environment before MPI
+  /// starts.
+  bool started_by_mpi_launcher();
+  /// This process's rank in that launch (0 when not launched).
+  int launcher_rank();
+
   /// What a command writes into its output folder, by name relative to the
   /// folder: the files that mark a previous result, and that `--force` removes
   /// (nothing else is ever removed). A name ending in '/' is a folder of the

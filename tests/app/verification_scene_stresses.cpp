@@ -117,11 +117,12 @@ TEST(SceneStresses, SurfaceBoundaryConditionsWithFriction)
 TEST(SceneStresses, WrittenOnlyOnRequest)
 {
   // By default a snapshot holds the risk but not the stress tensor; with
-  // Output/Stress snapshots = true both, and the same risk: each run solves the
-  // normal problem afresh, whose parallel reductions part the pressures by
-  // ~1e-12, and where a point's stress is near its running mean the risk
-  // amplifies that (two runs of the same file measured 1.7e-8 of the largest
-  // risk apart): 1e-6 of the largest.
+  // Output/Stress snapshots = true both, and the same risk up to how far two
+  // runs of one file part: each solves the normal problem afresh (parallel
+  // reductions: ~1e-12 in the pressures), measures its own FFT plans, and so
+  // takes its own iterations to the traction solver's tolerance, 1e-6 in the
+  // shipped file (two runs measured 6.6e-7 of the largest risk apart, 1.7e-8
+  // at the solver's default 1e-8): 1e-5 of the largest.
   const auto directory = test_files::scratch_directory("stress-default");
   test_files::write_text(directory / "scene.prm", small_scene());
   const auto result = run_program("run " + (directory / "scene.prm").string() + " -o " +
@@ -144,7 +145,7 @@ TEST(SceneStresses, WrittenOnlyOnRequest)
       difference = std::max(difference, std::abs(with.risk[k] - risk[k]));
     }
   EXPECT_GT(largest, 0.0);
-  EXPECT_LT(difference, 1e-6 * largest);
+  EXPECT_LT(difference, 1e-5 * largest);
 }
 
 TEST(SceneStresses, EvaluatorsAgreeInTheScene)

@@ -139,9 +139,9 @@ TEST(SceneRisk, TheTractionCheckReadsTheModelsRiskFromTheCoarsestRun)
   // The traction check's model side is the coarsest rerun (8^2 cells here)
   // read after the check's 2 cycles, not a run of its own: it must equal a
   // separate 8^2 run of 2 cycles, and differ from the finer reruns' D_max.
-  // Each run solves the normal problem afresh (parallel reductions), and the
-  // rerun with estimated FFT plans, the separate run with measured ones: the
-  // traction solves, to 1e-10 here, part them by less than 1e-9 relative.
+  // Each run solves the normal problem afresh (parallel reductions); the
+  // traction solves, to 1e-10 here, keep them within 1e-9 relative whatever
+  // FFT plans each run takes.
   const std::vector<std::pair<std::string, std::string>> history{
     {"Cells x", "32"}, {"Cells y", "32"}, {"Cycles", "3"}, {"Steps per cycle", "40"},
     {"Field snapshots per cycle", "0"}, {"Exact solver tolerance", "1e-10"}};

@@ -32,12 +32,15 @@ namespace fretsim::contact
     constexpr std::int64_t parallel_points = 2048;
 
     // x = cos 3theta within this of +-1 means two principal values of the
-    // deviator nearly coincide (1 - x^2 ~ (gap/spread)^2; 1e-3 is a gap below
-    // 1.7 % of the spread). There d theta/dx ~ 1/sqrt(1 - x^2) amplifies the
-    // round-off of det(s) into ~sqrt(eps) errors, so Jacobi takes over. Either
-    // way the principal values agree with Eigen's QR solver to 2e-15 |A|
-    // (unit_dang_van), where Eigen's own closed form (computeDirect) is off by 1e-8.
-    constexpr double lode_degeneracy = 1e-3;
+    // deviator nearly coincide (1 - x^2 ~ 3.4 (gap/spread)^2; 1e-5 is a gap
+    // below 0.2 % of the spread). There d theta/dx ~ 1/sqrt(1 - x^2) amplifies
+    // the round-off eps of det(s) into ~sqrt(eps) errors, so Jacobi takes over.
+    // Above it the closed forms lose at most eps / (6 sqrt(2e-5)) ~ 40 eps of
+    // the spread. At 1e-3 Jacobi took 3.6 % of the paper case's point-steps
+    // and a third of its Dang Van time, at 1e-5 0.2 %. Both forms agree with
+    // Eigen's QR solver to 1e-14 |A| (unit_dang_van), where Eigen's own closed
+    // form (computeDirect) is off by 1e-8.
+    constexpr double lode_degeneracy = 1e-5;
 
     inline void coordinates(const double *s, double *u)
     {

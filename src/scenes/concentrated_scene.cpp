@@ -207,9 +207,15 @@ namespace fretsim::scenes
                                         "as the paper does (the per-cycle centres need at least 1) [-].", 0,
                                         100000));
     specs.push_back(Spec::integer_range("Output/Field snapshots per cycle", "20",
-                                        "Field snapshots (pressure, shear, effective friction, slip, the "
-                                        "stress tensor and the Dang Van risk on the depth layers) written per "
-                                        "cycle [-].", 0, 1000000));
+                                        "Field snapshots (pressure, shear, effective friction, slip and the "
+                                        "Dang Van risk on the depth layers; with Output/Stress snapshots the "
+                                        "stress tensor too) written per cycle [-].", 0, 1000000));
+    specs.push_back(Spec::selection("Output/Stress snapshots", "false",
+                                    "true: each field snapshot also holds the stress tensor on every depth layer "
+                                    "(/fields/stress, 6 values a point: six times the risk's size, 79 of the 95 MB "
+                                    "of the paper case's results.h5 with 20 snapshots, and most of its writing "
+                                    "time); false: the risk only, which the figures and risk_max need.",
+                                    "true|false"));
     specs.push_back(Spec::integer_range("Output/Field output cycles", "1",
                                         "Snapshots are written for this many final cycles [-].", 0, 100000));
     specs.push_back(Spec::selection("Convergence/Risk error estimate", "true",
@@ -271,8 +277,10 @@ namespace fretsim::scenes
                             " × " + std::to_string(p.get_integer("Grid/Cells y")) + " cells on " +
                             std::to_string(long(layers)) + " Stresses/Depth layers" + path_note;
     // results.h5: one row of 9 series per step, and per snapshot 5 surface
-    // fields, the stress tensor and the risk on every layer; figures ~5 MB.
-    const double snapshot_bytes = 8.0 * cells * (5.0 + 7.0 * layers);
+    // fields, the risk and (if asked for) the stress tensor on every layer;
+    // figures ~5 MB.
+    const double snapshot_bytes =
+      8.0 * cells * (5.0 + (p.get_bool("Output/Stress snapshots") ? 7.0 : 1.0) * layers);
     estimate.disk_bytes         = 5e6 + 80.0 * (steps + 1.0) + snapshots * snapshot_bytes + 8.0 * cells * layers;
     estimate.disk_basis = std::to_string(long(snapshots)) +
                           " field snapshots (Output/Field snapshots per cycle × Output/Field output cycles) of " +
@@ -390,6 +398,7 @@ namespace fretsim::scenes
     s.normal_max_iterations    = static_cast<int>(p.get_integer("Normal contact/Maximum iterations"));
     s.snapshots_per_cycle      = static_cast<int>(p.get_integer("Output/Field snapshots per cycle"));
     s.snapshot_cycles          = static_cast<int>(p.get_integer("Output/Field output cycles"));
+    s.stress_snapshots         = p.get_bool("Output/Stress snapshots");
     s.stress_evaluator.method      = p.get("Stresses/Evaluator");
     s.stress_evaluator.measure_fft_plans = p.get("Grid/FFT plans") == "measure";
     s.yield_strength               = p.get_double("Materials/Lower body/Yield strength");
@@ -464,8 +473,9 @@ namespace fretsim::scenes
     {
     public:
       ConcentratedResults(const std::string &file, const std::string &parameters_prm, const contact::SurfaceGrid &grid,
-                          const std::vector<double> &depth_layers, double contact_radius)
+                          const std::vector<double> &depth_layers, double contact_radius, bool with_stress)
         : results(file, "concentrated", parameters_prm)
+        , stress_fields(with_stress)
       {
         write_surface_grid(results, grid, depth_layers);
         results.set_root_attribute("contact_radius_m", contact_radius);
@@ -481,10 +491,13 @@ namespace fretsim::scenes
         layers = depth_layers.size();
         // The stresses and risk are dense below the surface: deflate would
         // take most of the writing time for a third off their size.
-        results.declare_field("stress", "Pa",
-                              {layers, std::size_t(contact::stress_component_count), field_shape[0], field_shape[1]},
-                              false);
-        results.set_root_attribute("stress_components", "xx, yy, zz, yz, xz, xy (tension positive, lower body)");
+        if (stress_fields)
+          {
+            results.declare_field("stress", "Pa",
+                                  {layers, std::size_t(contact::stress_component_count), field_shape[0], field_shape[1]},
+                                  false);
+            results.set_root_attribute("stress_components", "xx, yy, zz, yz, xz, xy (tension positive, lower body)");
+          }
         results.declare_field("risk", "1", {layers, field_shape[0], field_shape[1]}, false);
       }
 
@@ -496,8 +509,12 @@ namespace fretsim::scenes
         contact::Field       slip               = run.grid().zeros();
         for (std::size_t c = 0; c < slip.size(); ++c)
           slip[c] = run.pressure()[c] > 0.0 && effective_friction[c] >= 1.0 - slip_tolerance ? 1.0 : 0.0;
-        results.append_snapshot(time, {&run.pressure(), &run.traction().traction_x(), &run.traction().traction_y(),
-                                       &effective_friction, &slip, &run.stress().values, &run.risk().risk()});
+        std::vector<const std::vector<double> *> fields{&run.pressure(), &run.traction().traction_x(),
+                                                        &run.traction().traction_y(), &effective_friction, &slip};
+        if (stress_fields)
+          fields.push_back(&run.stress().values);
+        fields.push_back(&run.risk().risk());
+        results.append_snapshot(time, fields);
       }
 
       void flush() { results.flush(); }
@@ -512,6 +529,7 @@ namespace fretsim::scenes
 
     private:
       output::ResultsFile      results;
+      bool                     stress_fields;
       std::vector<std::size_t> field_shape;
       std::size_t              layers = 0;
     };
@@ -525,6 +543,11 @@ namespace fretsim::scenes
   {
     contact::FrettingCase coarse, finer_in_time, check, check_exact;
     std::vector<std::tuple<const contact::FrettingCase *, int, int>> runs;
+    /// The model's side of the traction check is the coarsest run's history
+    /// cut short: that run's D_max after check.cycles cycles, read as it
+    /// passes them, goes to risk[check_slot] (no run of its own).
+    std::size_t  check_source = 0, check_slot = 0;
+    std::int64_t check_step   = -1; ///< -1: the check runs on its own
     double                   half_width_factor = 1.5;
     bool                     check_model       = false;
     std::vector<double>      risk;
@@ -550,7 +573,11 @@ namespace fretsim::scenes
             contact::FrettingRun run(*fretting_case,
                                      contact::fretting_grid(*fretting_case, cells_x, cells_y, half_width_factor));
             while (!run.finished() && !cancelled)
-              run.advance();
+              {
+                run.advance();
+                if (k == check_source && run.steps_done() == check_step)
+                  risk[check_slot] = run.risk_maximum().value;
+              }
             risk[k] = run.risk_maximum().value;
           }
         catch (const std::exception &error)
@@ -613,7 +640,8 @@ namespace fretsim::scenes
     history.contact_radius = std::sqrt(contact_area / M_PI);
     std::optional<ConcentratedResults> results;
     if (options.files)
-      results.emplace(results_file, parameters.to_prm(), grid_, s.depth_layers, history.contact_radius);
+      results.emplace(results_file, parameters.to_prm(), grid_, s.depth_layers, history.contact_radius,
+                      s.stress_snapshots);
 
     const double direction_x = std::cos(s.sliding_direction), direction_y = std::sin(s.sliding_direction);
     const int    snapshot_interval   = s.snapshots_per_cycle > 0 ? s.steps_per_cycle / s.snapshots_per_cycle : 0;
@@ -699,13 +727,26 @@ namespace fretsim::scenes
     r.runs = {{&r.coarse, s.cells_x / 2, s.cells_y / 2}, {&r.finer_in_time, quarter_x, quarter_y},
               {&r.coarse, quarter_x, quarter_y}};
     r.check_model = fretting_case.traction_model != contact::TractionModel::exact;
+    std::size_t slots = r.runs.size();
     if (r.check_model)
       {
         r.runs.emplace_back(&r.check_exact, quarter_x, quarter_y);
-        r.runs.emplace_back(&r.check, quarter_x, quarter_y);
+        slots = r.runs.size() + 1;
+        // The check's model run is the coarsest run's first cycles when both
+        // count D_max from the same step: D_max only grows, and a run's steps
+        // do not depend on how many follow, so its value is the same to the
+        // last digit.
+        if (r.check.warmup_cycles == r.coarse.warmup_cycles)
+          {
+            r.check_source = 2;
+            r.check_slot   = slots - 1;
+            r.check_step   = static_cast<std::int64_t>(r.check.cycles) * r.check.steps_per_cycle;
+          }
+        else
+          r.runs.emplace_back(&r.check, quarter_x, quarter_y);
       }
     r.half_width_factor = s.half_width_factor;
-    r.risk.assign(r.runs.size(), 0.0);
+    r.risk.assign(slots, 0.0);
     r.failure.assign(r.runs.size(), std::string());
     return reruns;
   }

@@ -65,6 +65,7 @@ namespace fretsim::scenes
       double normal_tolerance;
       int    normal_max_iterations;
       int    snapshots_per_cycle, snapshot_cycles;
+      bool   stress_snapshots = false;
       contact::StressEvaluatorSettings stress_evaluator;
       std::vector<double>              depth_layers; // [m], z = 0 on the surface
       double      bending_fatigue_limit, torsion_fatigue_limit; // f-1, t-1 [Pa]

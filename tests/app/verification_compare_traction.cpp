@@ -13,12 +13,17 @@ using test_files::summary_number;
 
 namespace
 {
-  /// 64 x 64 cells, 40 steps per cycle, 2 cycles, one depth layer.
+  /// 64 x 64 cells, 40 steps per cycle, 2 cycles, one depth layer; the exact
+  /// solver at its default tolerance 1e-8, at which the figures below were
+  /// measured (the shipped file's 1e-6 shortens the incremental solves
+  /// relatively more: traction speed-ups 1.5-2.6x against 1.6-3.6x at 1e-8,
+  /// three runs each on the loaded machine).
   std::string scene_text(const std::string &model)
   {
     return test_files::edited_paper_scene({{"Cells x", "64"}, {"Cells y", "64"}, {"Cycles", "2"},
                                            {"Steps per cycle", "40"}, {"Field snapshots per cycle", "4"},
-                                           {"Depth layers", "0"}, {"Traction model", model}});
+                                           {"Depth layers", "0"}, {"Traction model", model},
+                                           {"Exact solver tolerance", "1e-8"}});
   }
 } // namespace
 

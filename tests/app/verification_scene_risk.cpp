@@ -134,6 +134,30 @@ TEST(SceneRisk, TheConvergedRiskOfACoarseRunHoldsTheFineOne)
   EXPECT_LT(summary_number(fine, "traction_model_error_estimate"), 0.01);
 }
 
+TEST(SceneRisk, TheTractionCheckReadsTheModelsRiskFromTheCoarsestRun)
+{
+  // The traction check's model side is the coarsest rerun (8^2 cells here)
+  // read after the check's 2 cycles, not a run of its own: it must equal a
+  // separate 8^2 run of 2 cycles, and differ from the finer reruns' D_max.
+  // Each run solves the normal problem afresh (parallel reductions); the
+  // traction solves, to 1e-10 here, keep them within 1e-9 relative whatever
+  // FFT plans each run takes.
+  const std::vector<std::pair<std::string, std::string>> history{
+    {"Cells x", "32"}, {"Cells y", "32"}, {"Cycles", "3"}, {"Steps per cycle", "40"},
+    {"Field snapshots per cycle", "0"}, {"Exact solver tolerance", "1e-10"}};
+  const std::string with_check = run_paper_scene("risk-check", history);
+  auto edits = history;
+  edits.insert(edits.end(), {{"Cells x", "8"}, {"Cells y", "8"}, {"Risk error estimate", "false"}, {"Cycles", "2"}});
+  const double alone = summary_number(run_paper_scene("risk-check-alone", edits), "risk_max");
+  const double model = summary_number(with_check, "risk_max_model");
+  EXPECT_NEAR(model, alone, 1e-9 * alone);
+  const std::vector<double> grids = // 8^2, 16^2, 32^2
+    summary_vector(with_check.substr(with_check.find("\"risk_convergence\"")), "risk_max");
+  ASSERT_EQ(grids.size(), 3u);
+  EXPECT_GT(std::abs(grids[1] - alone), 1e-3 * alone);
+  EXPECT_EQ(summary_number(with_check, "cycles_compared"), 2);
+}
+
 TEST(SceneRisk, TheErrorEstimateNeedsGridsItCanHalveTwice)
 {
   const auto directory = test_files::scratch_directory("risk-cells");

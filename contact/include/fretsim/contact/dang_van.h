@@ -200,8 +200,8 @@ namespace fretsim::contact
 
   /// Principal values of a symmetric stress tensor, largest first [Pa].
   /// Trigonometric (Lode-angle) closed form; where two principal values are
-  /// within 1.7 % of the spread, where that form loses digits, cyclic Jacobi
-  /// rotations instead. Agrees with Eigen's iterative solver to 2e-15 of the
+  /// within 0.2 % of the spread, where that form loses digits, cyclic Jacobi
+  /// rotations instead. Agrees with Eigen's iterative solver to 1e-14 of the
   /// largest |principal value|, repeated values included.
   std::array<double, 3> principal_stresses(const StressTensor &stress);
   /// Tresca shear (sigma_1 - sigma_3) / 2 [Pa]. Where principal_stresses uses

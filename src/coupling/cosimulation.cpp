@@ -446,6 +446,8 @@ namespace fretsim::coupling
       check(ARKStepSetJacFn(sun.arkode, arkode_jacobian), "ARKStepSetJacFn");
       check(ARKStepSetOrder(sun.arkode, s.integrator.order), "ARKStepSetOrder");
       check(ARKStepSetNonlinConvCoef(sun.arkode, s.integrator.newton_tolerance), "ARKStepSetNonlinConvCoef");
+      check(ARKStepSetDeduceImplicitRhs(sun.arkode, s.integrator.deduce_stage_derivative ? SUNTRUE : SUNFALSE),
+            "ARKStepSetDeduceImplicitRhs");
       check(ARKStepSetJacEvalFrequency(sun.arkode, s.integrator.jacobian_interval), "ARKStepSetJacEvalFrequency");
       check(ARKStepSetLSetupFrequency(sun.arkode, static_cast<int>(s.integrator.jacobian_interval)),
             "ARKStepSetLSetupFrequency");

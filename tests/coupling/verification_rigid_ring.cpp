@@ -280,12 +280,18 @@ TEST(RigidRingCosimulation, StaysFiniteAndBoundedInExtremeCases)
 
 TEST(RigidRingCosimulation, AnIntegratorThatCannotKeepUpStopsWithAClearMessage)
 {
-  // A layer 10⁴ times stiffer than the default crawls: with a step budget the
+  // A layer 10⁴ times stiffer than the default crawls when each stage's
+  // derivative is evaluated at the stage's solution, where the layer's
+  // stiffness magnifies what Newton left unconverged: with a step budget the
   // run stops and says where and what to change, instead of hanging.
   const auto ring = synthetic::rigid_ring(radius, width, ring_mass, 120, 4);
   auto       s    = bearing_6208(1e19, 0.11);
   s.duration      = 4e-3;
   s.integrator.maximum_steps = 500;
+  // Deduced from Newton's correction (the default) the same run takes
+  // 57 steps in all (measured), within the budget.
+  EXPECT_NO_THROW(run(s, ring));
+  s.integrator.deduce_stage_derivative = false;
   try
     {
       run(s, ring);

@@ -31,7 +31,8 @@ namespace fretsim::coupling
     /// are too small for its OpenMP GEMM: each product's fork and join cost
     /// more than the second thread saved (one ball pass of the paper case:
     /// the integrator's own time 5.9 → 0.8 s, the run 1.45× faster on 2
-    /// cores). The contact's loops over the cells keep their threads.
+    /// cores AMD EPYC busy with other work). The contact's loops over the
+    /// cells keep their threads.
     struct EigenSerial
     {
       int threads = Eigen::nbThreads();

@@ -201,6 +201,14 @@ namespace fretsim::contact
     /// not be aligned as FFTW planned it, or too few rows).
     int                      split_row = 0;
     std::array<fftw_plan, 2> part_forward{}, part_backward{};
+    /// Whether the two parts run on two threads: only from a row sum of
+    /// nx ny² = 2^19 products up. The ring interface's 360 × 16 (2^16.5) is
+    /// ~70 µs of work, and the three barriers of its threads cost more than
+    /// they saved: one ball pass of the paper case took 0.81 of the time on
+    /// one thread (2 cores AMD EPYC busy with other work; 3 alternated
+    /// pairs, the same numbers bitwise).
+    bool                     parallel_parts = false;
+    static constexpr long    parallel_row_work = 1L << 19;
 
     struct Workspace
     {
@@ -283,7 +291,7 @@ namespace fretsim::contact
       const auto plan = [&](const std::array<fftw_plan, 2> &of_part, fftw_plan whole, int part) {
         return parts == 1 ? whole : of_part[part];
       };
-#pragma omp parallel num_threads(parts) if (parts > 1 && omp_get_max_threads() > 1)
+#pragma omp parallel num_threads(parts) if (parts > 1 && parallel_parts && omp_get_max_threads() > 1)
       {
 #pragma omp for schedule(static)
         for (int part = 0; part < parts; ++part)
@@ -423,7 +431,8 @@ namespace fretsim::contact
               aligned(complex_row(planning.result_spectrum.get(), split),
                       complex_row(planning.result_spectrum.get(), 0)))
             {
-              d.split_row = split;
+              d.split_row      = split;
+              d.parallel_parts = static_cast<long>(grid.nx) * grid.ny * grid.ny >= parallel_row_work;
               for (int part = 0; part < 2; ++part)
                 {
                   const int count     = part == 0 ? split : grid.ny - split;

@@ -275,15 +275,16 @@ TEST(SurfaceConvolution, PlansAreReusableMovableAndThreadSafe)
 
 TEST(SurfaceConvolution, RowsAlongXGiveTheSameNumbersOnOneThreadAsOnTwo)
 {
-  // Rows along x split the rows into two parts, one per thread; every row
-  // goes through the same plan whatever the thread count, so a run's numbers
-  // must not depend on it (bitwise). Both kernels' paths: Love's (even in x,
-  // real row spectra; the ring interface, closed in x) and an asymmetric one
-  // (complex), with an odd row count (unequal parts). Each also against the
-  // direct sum (relative 1e-12: FFT round-off).
-  const auto ring = SurfaceGrid::centred(360, 16, 2.0 * M_PI * 0.04, 0.018);
+  // Rows along x split the rows into two parts, one per thread on grids
+  // with work enough (nx ny² >= 2^19); every row goes through the same plan
+  // whatever the thread count, so a run's numbers must not depend on it
+  // (bitwise). Both kernels' paths: Love's (even in x, real row spectra; a
+  // ring interface, closed in x, twice the paper's grid each way) and an
+  // asymmetric one (complex), with an odd row count (unequal parts). Each
+  // also against the direct sum (relative 1e-12: FFT round-off).
+  const auto ring = SurfaceGrid::centred(720, 32, 2.0 * M_PI * 0.04, 0.018);
   const auto love = love_around(ring);
-  const auto odd = SurfaceGrid::centred(24, 17, 1.0, 1.0);
+  const auto odd = SurfaceGrid::centred(1820, 17, 1.0, 1.0);
   const std::vector<SurfaceConvolution> convolutions = [&] {
     std::vector<SurfaceConvolution> list;
     list.emplace_back(ring, love, true, SurfaceConvolution::Method::rows_along_x);

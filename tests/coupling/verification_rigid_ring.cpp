@@ -164,6 +164,46 @@ TEST(RigidRingCosimulation, FollowsTheQuasiStaticEquilibriumAndBalancesTheLoads)
   EXPECT_EQ(r.max_lower_half_pressure, 0.0); // only the loaded (upper) half carries pressure
 }
 
+TEST(RigidRingCosimulation, DeducedStageDerivativesKeepTheEquilibriumInFewerEvaluations)
+{
+  // The stages' derivatives from Newton's correction (the default) or from a
+  // further right-hand side at each stage's solution: both follow the
+  // closed-form quasi-static equilibrium above to the same bound, and the
+  // deduced ones save that evaluation.
+  const auto ring = synthetic::rigid_ring(radius, width, ring_mass, 360, 16);
+  auto       s    = bearing_6208(1e15, 0.0);
+  const auto follow = [&](bool deduce, IntegratorStatistics &stats) {
+    s.integrator.deduce_stage_derivative = deduce;
+    BearingCosimulation simulation(ring, s);
+    double              worst = 0.0;
+    simulation.run([&](const Snapshot &snap) {
+      if (snap.time >= s.ramp_time + 1e-3)
+        {
+          const auto u = equilibrium(s, ring.interface_grid, simulation.ball_angles(snap.time)).ring;
+          worst        = std::max(worst, std::hypot(snap.q[0] - u.x(), snap.q[1] - u.y()) / u.norm());
+        }
+      return true;
+    });
+    stats = simulation.statistics();
+    return worst;
+  };
+  IntegratorStatistics evaluated, deduced;
+  const double         worst_evaluated = follow(false, evaluated), worst_deduced = follow(true, deduced);
+  const auto per_step = [](const IntegratorStatistics &stats) {
+    return static_cast<double>(stats.rhs_evaluations) / static_cast<double>(stats.steps);
+  };
+  std::printf("largest distance from the equilibrium: %.3g evaluated, %.3g deduced; right-hand sides per step "
+              "%.2f and %.2f (%ld and %ld steps)\n",
+              worst_evaluated, worst_deduced, per_step(evaluated), per_step(deduced), evaluated.steps, deduced.steps);
+  // The bound of the test above (inertia, damping and the tolerance;
+  // measured 1.45e-5 both ways).
+  EXPECT_LT(worst_evaluated, 1e-4);
+  EXPECT_LT(worst_deduced, 1e-4);
+  // Each implicit stage without its own evaluation: measured 5.30 against
+  // 8.19 right-hand sides per step; bound 0.8 of it.
+  EXPECT_LT(per_step(deduced), 0.8 * per_step(evaluated));
+}
+
 TEST(RigidRingCosimulation, InterfacePressureRepeatsAtTheKinematicBallPassFrequency)
 {
   const auto ring = synthetic::rigid_ring(radius, width, ring_mass, 360, 16);
@@ -240,12 +280,18 @@ TEST(RigidRingCosimulation, StaysFiniteAndBoundedInExtremeCases)
 
 TEST(RigidRingCosimulation, AnIntegratorThatCannotKeepUpStopsWithAClearMessage)
 {
-  // A layer 10⁴ times stiffer than the default crawls: with a step budget the
+  // A layer 10⁴ times stiffer than the default crawls when each stage's
+  // derivative is evaluated at the stage's solution, where the layer's
+  // stiffness magnifies what Newton left unconverged: with a step budget the
   // run stops and says where and what to change, instead of hanging.
   const auto ring = synthetic::rigid_ring(radius, width, ring_mass, 120, 4);
   auto       s    = bearing_6208(1e19, 0.11);
   s.duration      = 4e-3;
   s.integrator.maximum_steps = 500;
+  // Deduced from Newton's correction (the default) the same run takes
+  // 57 steps in all (measured), within the budget.
+  EXPECT_NO_THROW(run(s, ring));
+  s.integrator.deduce_stage_derivative = false;
   try
     {
       run(s, ring);

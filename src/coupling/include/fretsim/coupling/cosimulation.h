@@ -66,6 +66,12 @@ namespace fretsim::coupling
     /// while the balls move the contact under it; every 5 steps the paper
     /// case takes two thirds of the steps for 0.7 of the time (docs/bearing.md).
     long jacobian_interval = 5;
+    /// Each implicit stage's derivative taken from Newton's converged
+    /// correction (ARKStepSetDeduceImplicitRhs) instead of a further
+    /// right-hand side at the stage's solution. That evaluation, a pressure
+    /// solve with the half-space, was a third of all; its value differs from
+    /// the deduced one by Newton's unconverged part only (docs/bearing.md).
+    bool deduce_stage_derivative = true;
   };
 
   struct CosimulationSettings

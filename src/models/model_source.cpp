@@ -91,6 +91,12 @@ namespace fretsim::models
     return source;
   }
 
+  namespace
+  {
+    /// Rank 0 under MPI, or the only process: the one that reports.
+    bool first_rank() { return !fem::ParallelEnvironment::active() || fem::ParallelEnvironment::rank() == 0; }
+  } // namespace
+
   ModelLoader::ModelLoader(bool build_if_missing, bool progress)
     : build_if_missing(build_if_missing)
     , progress(progress)
@@ -108,11 +114,14 @@ namespace fretsim::models
       {
         if (!build_if_missing)
           scene.reject(source.file_parameter, error.what());
-        std::cerr << "bearing_housing: " << error.what() << "\n  building it with `fretsim reduce "
-                  << source.config << " -o " << source.file;
-        for (const auto &[name, value] : source.overrides)
-          std::cerr << " --set '" << name << "=" << value << "'";
-        std::cerr << "` (about 2 minutes for the 6208 ring or housing)\n";
+        if (first_rank())
+          {
+            std::cerr << "bearing_housing: " << error.what() << "\n  building it with `fretsim reduce "
+                      << source.config << " -o " << source.file;
+            for (const auto &[name, value] : source.overrides)
+              std::cerr << " --set '" << name << "=" << value << "'";
+            std::cerr << "` (about 2 minutes for the 6208 ring or housing)\n";
+          }
         RingHousingCommandOptions reduce;
         reduce.config_file = source.config;
         reduce.output      = source.file;
@@ -145,9 +154,10 @@ namespace fretsim::models
           scene.reject("Stresses/Ring mesh", std::string(error.what()) + "; allow Model/Build if missing to build them");
       }
     const auto &d = source.divisions;
-    std::cerr << "bearing_housing: building the ring's full-FE stress tables " << source.file << " (mesh "
-              << d.circumferential << "x" << d.radial_ring << "x" << d.axial << "x" << d.axial_land
-              << "; about 2 minutes for the 6208 ring)\n";
+    if (first_rank())
+      std::cerr << "bearing_housing: building the ring's full-FE stress tables " << source.file << " (mesh "
+                << d.circumferential << "x" << d.radial_ring << "x" << d.axial << "x" << d.axial_land
+                << "; about 2 minutes for the 6208 ring)\n";
     if (!fem::ParallelEnvironment::active())
       mpi = std::make_unique<fem::ParallelEnvironment>();
     const RingHousingRequest request = read_ring_housing_request(read_ring_housing_parameters(source.config, {}));

@@ -167,7 +167,9 @@ TEST(BearingScene, UnderMpiexecTheRanksBuildTheModelsAndRankZeroRunsAlone)
   const std::string output = read_text(log);
   EXPECT_TRUE(std::filesystem::exists(parallel_dir / "model.h5"));
   EXPECT_TRUE(std::filesystem::exists(parallel_dir / "ring-stress-tables.h5"));
-  // One run: the results are printed once.
+  // One report of what is built, one run: each printed once.
+  EXPECT_NE(output.find("building it"), std::string::npos) << output;
+  EXPECT_EQ(output.find("building it"), output.rfind("building it")) << output;
   EXPECT_EQ(output.find("summary:"), output.rfind("summary:")) << output;
   const auto serial = run_program("run " + (serial_dir / "scene.prm").string() + " -q --no-plots -o " +
                                   (serial_dir / "out").string() + short_run);

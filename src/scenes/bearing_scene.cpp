@@ -148,8 +148,8 @@ namespace fretsim::scenes
       };
     }
 
-    /// The ring/housing interface and the time integration.
-    std::vector<app::ParameterSpec> interface_integrator_specs()
+    /// The ring/housing interface and the ring's damping.
+    std::vector<app::ParameterSpec> interface_specs()
     {
       using Spec = app::ParameterSpec;
       return {
@@ -227,6 +227,14 @@ namespace fretsim::scenes
                          -1e-3, 1e-3),
         Spec::real_range("Ring/Damping ratio", "0.02",
                          "Stiffness-proportional damping: this ratio at the lowest elastic frequency [-].", 0.0, 10.0),
+      };
+    }
+
+    /// The time integrator.
+    std::vector<app::ParameterSpec> integrator_specs()
+    {
+      using Spec = app::ParameterSpec;
+      return {
         Spec::integer_range("Integrator/Order", "3", "Order of ARKODE's diagonally implicit Runge-Kutta method [-].", 2,
                             5),
         Spec::real_range("Integrator/Relative tolerance", "1e-4", "ARKODE relative tolerance [-].", 1e-12, 1e-1),
@@ -362,7 +370,7 @@ namespace fretsim::scenes
   std::vector<app::ParameterSpec> BearingHousingScene::parameter_specs()
   {
     std::vector<app::ParameterSpec> specs = model_bearing_loading_specs();
-    for (auto group : {interface_integrator_specs(), output_risk_check_specs()})
+    for (auto group : {interface_specs(), integrator_specs(), output_risk_check_specs()})
       specs.insert(specs.end(), group.begin(), group.end());
     return specs;
   }

@@ -148,17 +148,17 @@ namespace fretsim::app
           return exit_ok;
         }
       check_resources(estimate, config_file, output_directory);
+      const auto scene = scenes::make_scene(std::move(parameters));
       if (started_by_mpi_launcher())
         { // the ranks build the scene's models together; the run itself is rank 0's
           {
             const fem::ParallelEnvironment mpi;
-            scenes::make_scene(scenes::load_parameters(config_file, parse_overrides(options.settings)))->prepare();
+            scene->prepare();
           }
           if (launcher_rank() != 0)
             return exit_ok;
         }
       const OutputFolder folder(output_directory, policy);
-      const auto         scene = scenes::make_scene(std::move(parameters));
       install_interrupt_handlers();
       const scenes::RunReport report = scene->run({output_directory, options.plots, !options.quiet});
       std::cout << "results:  " << std::filesystem::absolute(report.results_file).string() << "\n"

@@ -727,11 +727,9 @@ namespace fretsim::scenes
     r.runs = {{&r.coarse, s.cells_x / 2, s.cells_y / 2}, {&r.finer_in_time, quarter_x, quarter_y},
               {&r.coarse, quarter_x, quarter_y}};
     r.check_model = fretting_case.traction_model != contact::TractionModel::exact;
-    std::size_t slots = r.runs.size();
     if (r.check_model)
       {
         r.runs.emplace_back(&r.check_exact, quarter_x, quarter_y);
-        slots = r.runs.size() + 1;
         // The check's model run is the coarsest run's first cycles when both
         // count D_max from the same step: D_max only grows, and a run's steps
         // do not depend on how many follow, so its value is the same to the
@@ -739,14 +737,14 @@ namespace fretsim::scenes
         if (r.check.warmup_cycles == r.coarse.warmup_cycles)
           {
             r.check_source = 2;
-            r.check_slot   = slots - 1;
+            r.check_slot   = 4;
             r.check_step   = static_cast<std::int64_t>(r.check.cycles) * r.check.steps_per_cycle;
           }
         else
           r.runs.emplace_back(&r.check, quarter_x, quarter_y);
       }
     r.half_width_factor = s.half_width_factor;
-    r.risk.assign(slots, 0.0);
+    r.risk.assign(r.check_model ? 5 : 3, 0.0); // [3]: the check's exact run, [4]: its model's D_max
     r.failure.assign(r.runs.size(), std::string());
     return reruns;
   }

@@ -6,6 +6,7 @@
 
 #include <petscksp.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -25,6 +26,17 @@ namespace fretsim::fem
         throw std::runtime_error(std::string("fem::ShiftedStaticSolver: PETSc failed in ") + what + " (error " +
                                  std::to_string(static_cast<int>(error)) + ")");
     }
+
+    /// A dense block of right-hand sides or solutions, destroyed on any exit.
+    struct DenseBlock
+    {
+      Mat mat = nullptr;
+      ~DenseBlock()
+      {
+        if (mat)
+          MatDestroy(&mat);
+      }
+    };
   } // namespace
 
   struct ShiftedStaticSolver::Impl
@@ -39,6 +51,17 @@ namespace fretsim::fem
     /// weights); with relief also M-orthonormal ones and M times them.
     std::vector<Vec> raw_modes, modes, mass_modes;
     Vector3          net_force{0.0, 0.0, 0.0}, net_moment{0.0, 0.0, 0.0};
+
+    /// f = the load's vector, relieved; the net force and moment recorded.
+    void prepare_load(const StaticLoad &load);
+    /// Throws if the last KSPSolve / KSPMatSolve failed.
+    void check_solved() const;
+    /// Projects the rigid-body motions out of a solution (with relief only).
+    void remove_rigid_motion(Vec x) const;
+    /// The loads in blocks of at most `columns` right-hand sides (KSPMatSolve:
+    /// MatMatSolve of the MUMPS factor), each field handed to `use` in order.
+    void solve_blocks(const std::vector<StaticLoad> &loads, std::size_t columns,
+                      const std::function<void(std::size_t, DisplacementField &&)> &use);
 
     ~Impl()
     {
@@ -121,40 +144,124 @@ namespace fretsim::fem
 
   ShiftedStaticSolver::~ShiftedStaticSolver() = default;
 
-  DisplacementField ShiftedStaticSolver::solve(const StaticLoad &load)
+  void ShiftedStaticSolver::Impl::prepare_load(const StaticLoad &load)
   {
-    auto start = Clock::now();
-    impl->model->assemble_load_vector(load, impl->f);
+    model->assemble_load_vector(load, f);
     for (unsigned int k = 0; k < 3; ++k)
       {
-        check_petsc(VecDot(impl->f, impl->raw_modes[k], &impl->net_force[k]), "VecDot");
-        check_petsc(VecDot(impl->f, impl->raw_modes[3 + k], &impl->net_moment[k]), "VecDot");
+        check_petsc(VecDot(f, raw_modes[k], &net_force[k]), "VecDot");
+        check_petsc(VecDot(f, raw_modes[3 + k], &net_moment[k]), "VecDot");
       }
     // Inertia relief: f_e = f - M Φ (Φᵀ f).
-    for (std::size_t i = 0; i < impl->modes.size(); ++i)
+    for (std::size_t i = 0; i < modes.size(); ++i)
       {
         PetscScalar c;
-        check_petsc(VecDot(impl->f, impl->modes[i], &c), "VecDot");
-        check_petsc(VecAXPY(impl->f, -c, impl->mass_modes[i]), "VecAXPY");
+        check_petsc(VecDot(f, modes[i], &c), "VecDot");
+        check_petsc(VecAXPY(f, -c, mass_modes[i]), "VecAXPY");
       }
-    impl->load_seconds = since(start);
-    start              = Clock::now();
-    check_petsc(KSPSolve(impl->ksp, impl->f, impl->u), "KSPSolve");
+  }
+
+  void ShiftedStaticSolver::Impl::check_solved() const
+  {
     KSPConvergedReason reason;
-    check_petsc(KSPGetConvergedReason(impl->ksp, &reason), "KSPGetConvergedReason");
+    check_petsc(KSPGetConvergedReason(ksp, &reason), "KSPGetConvergedReason");
     if (reason < 0)
       throw std::runtime_error("fem::ShiftedStaticSolver: the factorised solve failed (PETSc reason " +
                                std::to_string(static_cast<int>(reason)) + ")");
-    // u is M-orthogonal to the rigid-body modes in exact arithmetic; the
+  }
+
+  void ShiftedStaticSolver::Impl::remove_rigid_motion(Vec x) const
+  {
+    // x is M-orthogonal to the rigid-body modes in exact arithmetic; the
     // round-off that 1/|σ| amplifies along them is projected out as well.
-    for (std::size_t i = 0; i < impl->modes.size(); ++i)
+    for (std::size_t i = 0; i < modes.size(); ++i)
       {
         PetscScalar c;
-        check_petsc(VecDot(impl->u, impl->mass_modes[i], &c), "VecDot");
-        check_petsc(VecAXPY(impl->u, -c, impl->modes[i]), "VecAXPY");
+        check_petsc(VecDot(x, mass_modes[i], &c), "VecDot");
+        check_petsc(VecAXPY(x, -c, modes[i]), "VecAXPY");
       }
+  }
+
+  DisplacementField ShiftedStaticSolver::solve(const StaticLoad &load)
+  {
+    auto start = Clock::now();
+    impl->prepare_load(load);
+    impl->load_seconds = since(start);
+    start              = Clock::now();
+    check_petsc(KSPSolve(impl->ksp, impl->f, impl->u), "KSPSolve");
+    impl->check_solved();
+    impl->remove_rigid_motion(impl->u);
     impl->solve_seconds = since(start);
     return impl->model->field_from_vector(impl->u);
+  }
+
+  std::vector<DisplacementField> ShiftedStaticSolver::solve(const std::vector<StaticLoad> &loads)
+  {
+    std::vector<DisplacementField> fields;
+    fields.reserve(loads.size());
+    impl->solve_blocks(loads, block_columns,
+                       [&](std::size_t, DisplacementField &&u) { fields.push_back(std::move(u)); });
+    return fields;
+  }
+
+  void ShiftedStaticSolver::solve_each(const std::vector<StaticLoad>                                  &loads,
+                                       const std::function<void(std::size_t, const DisplacementField &)> &use,
+                                       const std::size_t                                                columns)
+  {
+    impl->solve_blocks(loads, columns, [&](std::size_t i, DisplacementField &&u) { use(i, u); });
+  }
+
+  void ShiftedStaticSolver::Impl::solve_blocks(const std::vector<StaticLoad> &loads, const std::size_t columns,
+                                               const std::function<void(std::size_t, DisplacementField &&)> &use)
+  {
+    if (columns == 0)
+      throw std::invalid_argument("fem::ShiftedStaticSolver: a block needs at least one column");
+    MPI_Comm comm;
+    check_petsc(PetscObjectGetComm(reinterpret_cast<PetscObject>(shifted), &comm), "PetscObjectGetComm");
+    PetscInt local_rows, rows;
+    check_petsc(VecGetLocalSize(f, &local_rows), "VecGetLocalSize");
+    check_petsc(VecGetSize(f, &rows), "VecGetSize");
+    double assembling = 0.0, solving = 0.0;
+    for (std::size_t first = 0; first < loads.size(); first += columns)
+      {
+        const std::size_t n = std::min(columns, loads.size() - first);
+        DenseBlock        rhs, solution; // rows laid out as the vectors, all columns on every rank
+        check_petsc(MatCreateDense(comm, local_rows, PETSC_DECIDE, rows, static_cast<PetscInt>(n), nullptr, &rhs.mat),
+                    "MatCreateDense");
+        check_petsc(MatCreateDense(comm, local_rows, PETSC_DECIDE, rows, static_cast<PetscInt>(n), nullptr,
+                                   &solution.mat),
+                    "MatCreateDense");
+        auto start = Clock::now();
+        for (std::size_t j = 0; j < n; ++j)
+          {
+            prepare_load(loads[first + j]);
+            Vec column;
+            check_petsc(MatDenseGetColumnVecWrite(rhs.mat, static_cast<PetscInt>(j), &column),
+                        "MatDenseGetColumnVecWrite");
+            check_petsc(VecCopy(f, column), "VecCopy");
+            check_petsc(MatDenseRestoreColumnVecWrite(rhs.mat, static_cast<PetscInt>(j), &column),
+                        "MatDenseRestoreColumnVecWrite");
+          }
+        assembling += since(start);
+        start = Clock::now();
+        check_petsc(KSPMatSolve(ksp, rhs.mat, solution.mat), "KSPMatSolve");
+        check_solved();
+        solving += since(start);
+        for (std::size_t j = 0; j < n; ++j)
+          {
+            start = Clock::now();
+            Vec column;
+            check_petsc(MatDenseGetColumnVec(solution.mat, static_cast<PetscInt>(j), &column), "MatDenseGetColumnVec");
+            remove_rigid_motion(column);
+            solving += since(start);
+            DisplacementField u = model->field_from_vector(column);
+            check_petsc(MatDenseRestoreColumnVec(solution.mat, static_cast<PetscInt>(j), &column),
+                        "MatDenseRestoreColumnVec");
+            use(first + j, std::move(u));
+          }
+      }
+    load_seconds  = assembling;
+    solve_seconds = solving;
   }
 
   double  ShiftedStaticSolver::shift() const { return impl->sigma; }

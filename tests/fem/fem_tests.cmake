@@ -12,7 +12,8 @@ if(TARGET test_fem_verification_stress_snapshots)
   target_link_libraries(test_fem_verification_stress_snapshots PRIVATE fretsim_output)
 endif()
 
-foreach(name unit_parallel_consistency unit_surface_grid_map unit_surface_point_map verification_stress_snapshots)
+foreach(name unit_parallel_consistency unit_shifted_static_solver unit_surface_grid_map unit_surface_point_map
+             verification_stress_snapshots)
   if(TARGET test_fem_${name})
     add_test(NAME fem.mpi_np2.${name}
       COMMAND ${MPIEXEC_EXECUTABLE} ${MPIEXEC_NUMPROC_FLAG} 2 ${MPIEXEC_PREFLAGS}

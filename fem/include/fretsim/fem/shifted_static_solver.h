@@ -24,9 +24,17 @@
 // motion; the solution is projected once more after the solve, which removes
 // the round-off that 1/|σ| amplifies along the rigid motions). For an exactly
 // self-equilibrated load both are the same.
+//
+// Many loads at once: solve(loads) and solve_each() solve them as blocks of
+// right-hand sides (MUMPS's triangular solves with many columns run at
+// BLAS-3 speed; one column at a time they mostly repack the factor). Each
+// load gets exactly what solve(load) does, relief included, to round-off.
 #include <fretsim/fem/elastic_model.h>
 
+#include <cstddef>
+#include <functional>
 #include <memory>
+#include <vector>
 
 namespace fretsim::fem
 {
@@ -43,16 +51,31 @@ namespace fretsim::fem
     ShiftedStaticSolver(const ShiftedStaticSolver &)            = delete;
     ShiftedStaticSolver &operator=(const ShiftedStaticSolver &) = delete;
 
+    /// Most right-hand sides solved as one block: the block's load vectors
+    /// and solutions are two dense n_dofs × 64 matrices (1 KiB per DoF), and
+    /// more columns gain little once the factor's packing is shared.
+    static constexpr std::size_t block_columns = 64;
+
     /// Assembles the load vector of `load` and solves.
     DisplacementField solve(const StaticLoad &load);
+    /// Every load solved, in blocks of `block_columns`; the fields in the
+    /// loads' order (all of them held at once: solve_each() holds one).
+    std::vector<DisplacementField> solve(const std::vector<StaticLoad> &loads);
+    /// Every load solved in blocks of at most `columns`, and `use(i, u_i)`
+    /// called for each in the loads' order, one field alive at a time.
+    void solve_each(const std::vector<StaticLoad>                                  &loads,
+                    const std::function<void(std::size_t, const DisplacementField &)> &use,
+                    std::size_t                                                    columns = block_columns);
 
     double shift() const; ///< σ [1/s²]
     /// Resultant force [N] and moment about the origin [N m] of the last
-    /// solve's load vector, before any inertia relief: what relief balanced.
+    /// solved load's vector (after a list of loads, the list's last), before
+    /// any inertia relief: what relief balanced.
     Vector3 last_net_force() const;
     Vector3 last_net_moment() const;
     /// Wall-clock seconds: mass assembly (0 if M was there), K - σM and its
-    /// factorisation (constructor); load assembly and solve of the last solve().
+    /// factorisation (constructor); load assembly and solve of the last
+    /// solve() or solve_each() (of all the list's loads together).
     double mass_seconds() const;
     double factorisation_seconds() const;
     double last_load_seconds() const;

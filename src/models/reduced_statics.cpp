@@ -204,49 +204,52 @@ namespace fretsim::models
         whole_factor = whole.shifted;
         cholesky(whole_factor, whole.n);
       }
+    // Every unit load with its generalised force Tᵀf and where its column
+    // goes, solved by the full FE as one block.
+    std::vector<fem::StaticLoad>       loads;
+    std::vector<std::vector<double>>   generalised;
+    std::vector<std::vector<double> *> columns;
+    // each load its own tractions: the block solve reads them all at once
+    std::vector<fem::GridTractions> units(static_cast<std::size_t>(components * grid.ny));
+    for (int k = 0; k < components; ++k)
+      for (int j = 0; j < grid.ny; ++j)
+        {
+          fem::GridTractions &unit = units[static_cast<std::size_t>(k * grid.ny + j)];
+          for (auto *field : {&unit.pressure, &unit.shear_x, &unit.shear_y})
+            field->assign(grid.size(), 0.0);
+          auto             &field = k == 0 ? unit.pressure : k == 1 ? unit.shear_x : unit.shear_y;
+          const std::size_t cell  = static_cast<std::size_t>(j) * grid.nx; // (0, j)
+          field[cell]             = 1.0 / area;                            // 1 N on the cell
+          loads.emplace_back().grid_tractions.push_back({&map, &unit});
+          // Tᵀ f of that force: the cell's row of the component (the
+          // pressure pushes into the body, so inward on the ring)
+          std::vector<double> g(whole.grid_displacement.begin() + static_cast<std::ptrdiff_t>((3 * cell + k) * whole.n),
+                                whole.grid_displacement.begin() + static_cast<std::ptrdiff_t>((3 * cell + k + 1) * whole.n));
+          if (k == 0 && !housing_bore)
+            for (double &value : g)
+              value = -value;
+          generalised.push_back(std::move(g));
+          columns.push_back(&residual.traction[k]);
+        }
+    if (ball)
+      {
+        loads.emplace_back().ball_loads.push_back(ball(residual.column_angle, 1.0));
+        std::vector<double> g(whole.n, 0.0);
+        add_ball_row(whole, residual.column_angle, 1.0, g);
+        generalised.push_back(std::move(g));
+        columns.push_back(&residual.ball);
+      }
     // u_r of the full FE solution minus the reduced model's, per cell.
-    const auto difference = [&](const fem::StaticLoad &load, const std::vector<double> &generalised) {
-      std::vector<double>       u_r     = map.interpolate(solver.solve(load)).u_r;
-      const std::vector<double> q =
-        housing_bore ? cholesky_solve(whole_factor, whole.n, generalised) : relieved_static(whole, generalised);
+    solver.solve_each(loads, [&](std::size_t i, const fem::DisplacementField &u) {
+      std::vector<double>       u_r = map.interpolate(u).u_r;
+      const std::vector<double> q   = housing_bore ? cholesky_solve(whole_factor, whole.n, generalised[i])
+                                                   : relieved_static(whole, generalised[i]);
       const std::vector<double> reduced = apply(whole.grid_displacement, whole.n, q); // [cell][3]
       for (std::size_t c = 0; c < u_r.size(); ++c)
         u_r[c] -= reduced[3 * c];
+      columns[i]->insert(columns[i]->end(), u_r.begin(), u_r.end());
       ++residual.solves;
-      return u_r;
-    };
-    fem::GridTractions unit;
-    for (auto *field : {&unit.pressure, &unit.shear_x, &unit.shear_y})
-      field->assign(grid.size(), 0.0);
-    for (int k = 0; k < components; ++k)
-      {
-        auto &field = k == 0 ? unit.pressure : k == 1 ? unit.shear_x : unit.shear_y;
-        for (int j = 0; j < grid.ny; ++j)
-          {
-            const std::size_t cell = static_cast<std::size_t>(j) * grid.nx; // (0, j)
-            field[cell]            = 1.0 / area; // 1 N on the cell
-            fem::StaticLoad load;
-            load.grid_tractions.push_back({&map, &unit});
-            // Tᵀ f of that force: the cell's row of the component (the
-            // pressure pushes into the body, so inward on the ring)
-            std::vector<double> g(whole.grid_displacement.begin() + static_cast<std::ptrdiff_t>((3 * cell + k) * whole.n),
-                                  whole.grid_displacement.begin() + static_cast<std::ptrdiff_t>((3 * cell + k + 1) * whole.n));
-            if (k == 0 && !housing_bore)
-              for (double &value : g)
-                value = -value;
-            const std::vector<double> column = difference(load, g);
-            residual.traction[k].insert(residual.traction[k].end(), column.begin(), column.end());
-            field[cell] = 0.0;
-          }
-      }
-    if (ball)
-      {
-        fem::StaticLoad load;
-        load.ball_loads.push_back(ball(residual.column_angle, 1.0));
-        std::vector<double> g(whole.n, 0.0);
-        add_ball_row(whole, residual.column_angle, 1.0, g);
-        residual.ball = difference(load, g);
-      }
+    });
     residual.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return residual;
   }

@@ -51,9 +51,8 @@ namespace fretsim::fem
     ShiftedStaticSolver(const ShiftedStaticSolver &)            = delete;
     ShiftedStaticSolver &operator=(const ShiftedStaticSolver &) = delete;
 
-    /// Most right-hand sides solved as one block: the block's load vectors
-    /// and solutions are two dense n_dofs × 64 matrices (1 KiB per DoF), and
-    /// more columns gain little once the factor's packing is shared.
+    /// Most right-hand sides solved as one block: bounds a block's memory
+    /// (its loads and solutions, two dense n_dofs × 64 matrices: 1 KiB per DoF).
     static constexpr std::size_t block_columns = 64;
 
     /// Assembles the load vector of `load` and solves.

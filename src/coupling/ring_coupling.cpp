@@ -265,8 +265,13 @@ namespace fretsim::coupling
       return rows.data() + (component == 0 ? c : cells + 2 * c + component - 1) * n;
     }
 
-    // Committed (last accepted) state.
-    contact::Field tau_x, tau_y, u_t, u_z, pressure;
+    // Committed (last accepted) state. A cell's tangential position u_t, u_z
+    // at the accepted q is taken when the cell is first evaluated loaded
+    // after the acceptance (tangential_current): most cells stay open, and
+    // their two rows are not read.
+    contact::Field             tau_x, tau_y, u_t, u_z, pressure;
+    std::vector<double>        accepted_q;
+    std::vector<unsigned char> tangential_current;
     // Trial state of the last evaluation.
     contact::Field trial_tau_x, trial_tau_y, trial_pressure;
     std::vector<unsigned char> loaded;
@@ -311,6 +316,8 @@ namespace fretsim::coupling
         field->assign(cells, 0.0);
       loaded.assign(cells, 0);
       slipping.assign(cells, 0);
+      accepted_q.assign(n, 0.0);
+      tangential_current.assign(cells, 0);
       if (settings.local_compliance_modulus > 0.0 || !ring.residual_pressure.empty())
         {
           const bool closed = std::abs(grid.nx * grid.hx - 2.0 * M_PI * radius) <= 1e-9 * radius;
@@ -449,6 +456,12 @@ namespace fretsim::coupling
               {
                 trial_tau_x[c] = trial_tau_y[c] = 0.0;
                 continue;
+              }
+            if (!tangential_current[c])
+              { // every cell's, open ones too: a cell that closes during a step slips from where it was
+                u_t[c]                = dot(row(c, 1), accepted_q.data());
+                u_z[c]                = dot(row(c, 2), accepted_q.data());
+                tangential_current[c] = 1;
               }
             const double   ut = dot(row(c, 1), q_data), uz = dot(row(c, 2), q_data);
             const BristleStep step = bristle_traction(c, p, -(ut - u_t[c]), -(uz - u_z[c]), jacobian);
@@ -682,15 +695,9 @@ namespace fretsim::coupling
       impl->slipping[c] = impl->pressure[c] > 0.0 &&
                           std::hypot(impl->tau_x[c], impl->tau_y[c]) >=
                             slip_threshold * impl->settings.friction_coefficient * impl->pressure[c];
-    // Every cell's tangential position, open ones too: a cell that closes
-    // during the next step slips from where it was, not from zero.
-    const auto &d = *impl;
-#pragma omp parallel for schedule(static)
-    for (std::size_t c = 0; c < d.cells; ++c)
-      {
-        impl->u_t[c] = d.dot(d.row(c, 1), q);
-        impl->u_z[c] = d.dot(d.row(c, 2), q);
-      }
+    // The tangential positions from now on at this q (taken when needed).
+    impl->accepted_q.assign(q, q + impl->n);
+    std::fill(impl->tangential_current.begin(), impl->tangential_current.end(), 0);
   }
 
   const contact::Field &InterfaceContact::trial_pressure() const { return impl->trial_pressure; }

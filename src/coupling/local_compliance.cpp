@@ -10,6 +10,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 namespace fretsim::coupling
 {
@@ -45,6 +46,7 @@ namespace fretsim::coupling
     double                      layer_compliance; ///< 1/k_n [m/Pa]
     double                      sensitivity_tolerance;
     std::size_t                 direct_cells = default_direct_sensitivity_cells;
+    bool                        single_precision = false;
     double                      self = 0.0; ///< the largest diagonal entry of C [m/Pa]
     double                      uniform = 0.0; ///< the largest displacement under p = 1 everywhere [m/Pa]
     contact::Field              response, gap, direction, masked, preconditioned; // work arrays of solve()
@@ -65,6 +67,9 @@ namespace fretsim::coupling
     /// (C_AA + I/k_n)⁻¹ rhs by Cholesky; false if the factorisation fails.
     bool direct_sensitivity(const std::vector<std::size_t> &loaded, const double *rhs, std::size_t columns,
                             std::vector<double> &result) const;
+    template <class Scalar>
+    static bool factorise_and_solve(const Eigen::MatrixXd &operator_aa, const double *rhs, std::size_t columns,
+                                    std::vector<double> &result);
 
     Impl(const contact::SurfaceGrid &g, double modulus, double layer_stiffness, bool periodic_x,
          double cg_tolerance, const std::vector<double> &structural, const HalfSpaceCompletion &completion,
@@ -361,6 +366,8 @@ namespace fretsim::coupling
 
   void LocalCompliance::set_direct_sensitivity_cells(std::size_t cells) { impl->direct_cells = cells; }
 
+  void LocalCompliance::set_single_precision_factorisation(bool single) { impl->single_precision = single; }
+
   const LocalCompliance::Statistics &LocalCompliance::statistics() const { return impl->statistics; }
 
   int LocalCompliance::solve(const contact::Field &b, contact::Field &p)
@@ -612,7 +619,6 @@ namespace fretsim::coupling
   bool LocalCompliance::Impl::direct_sensitivity(const std::vector<std::size_t> &loaded, const double *rhs,
                                                  std::size_t columns, std::vector<double> &result) const
   {
-    using RowMatrix  = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
     const auto     m = static_cast<Eigen::Index>(loaded.size());
     Eigen::MatrixXd operator_aa(m, m); // C_AA + I/k_n
 #pragma omp parallel for schedule(dynamic, 16)
@@ -626,11 +632,37 @@ namespace fretsim::coupling
           }
         operator_aa(b, b) += layer_compliance;
       }
-    const Eigen::LLT<Eigen::MatrixXd> factor(operator_aa);
-    if (factor.info() != Eigen::Success)
-      return false;
-    Eigen::Map<RowMatrix>(result.data(), m, static_cast<Eigen::Index>(columns)) =
-      factor.solve(Eigen::Map<const RowMatrix>(rhs, m, static_cast<Eigen::Index>(columns)));
+    // Single precision where it fails falls back to double.
+    return (single_precision && factorise_and_solve<float>(operator_aa, rhs, columns, result)) ||
+           factorise_and_solve<double>(operator_aa, rhs, columns, result);
+  }
+
+  template <class Scalar>
+  bool LocalCompliance::Impl::factorise_and_solve(const Eigen::MatrixXd &operator_aa, const double *rhs,
+                                                  std::size_t columns, std::vector<double> &result)
+  {
+    using Matrix    = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>;
+    using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    const auto m = operator_aa.rows(), width = static_cast<Eigen::Index>(columns);
+    const Eigen::Map<const RowMatrix> right(rhs, m, width);
+    Eigen::Map<RowMatrix>             answer(result.data(), m, width);
+    // (LLT reads the lower triangle only, the one filled)
+    if constexpr (std::is_same_v<Scalar, double>)
+      {
+        const Eigen::LLT<Matrix> factor(operator_aa);
+        if (factor.info() != Eigen::Success)
+          return false;
+        answer = factor.solve(right);
+      }
+    else
+      {
+        const Eigen::LLT<Matrix> factor(operator_aa.template cast<Scalar>());
+        if (factor.info() != Eigen::Success)
+          return false;
+        Matrix solution = right.template cast<Scalar>();
+        factor.solveInPlace(solution);
+        answer = solution.template cast<double>();
+      }
     return true;
   }
 

@@ -236,11 +236,13 @@ namespace fretsim::coupling
     double            radius;
     contact::SurfaceGrid grid;
     std::size_t       n, cells;
-    // The operator as [cell][3][n] rows in single precision: a loaded cell's
-    // three rows are one contiguous block, read once for its displacement and
-    // once (from cache) for its generalised force. At the paper's size
-    // (5760 cells × 3 × 160) it is 22 MB in double, and streaming it from
-    // memory was what a right-hand side cost; in float it is half that.
+    // The operator's rows in single precision: first every cell's radial
+    // row, [cell][n], which every right-hand side streams whole for the
+    // structural approach (a third of the operator, contiguous), then the
+    // tangential pairs, [cell][2][n], which only the loaded cells read. At
+    // the paper's size (5760 cells × 3 × 160) it is 22 MB in double, and
+    // streaming it from memory was what a right-hand side cost; in float it
+    // is half that.
     // Its relative rounding, 6e-8, moves the interface by 6e-8 of the ring's
     // displacement (< 1e-13 m here, against a 1e-11 m tolerance), and the
     // same rounded rows are used both ways, so the transfer stays exactly
@@ -258,10 +260,18 @@ namespace fretsim::coupling
     std::vector<double> band_share;
 
     /// Row `component` (0 radial, 1 circumferential, 2 axial) of cell c.
-    const float *row(std::size_t c, int component) const { return rows.data() + (3 * c + component) * n; }
+    const float *row(std::size_t c, int component) const
+    {
+      return rows.data() + (component == 0 ? c : cells + 2 * c + component - 1) * n;
+    }
 
-    // Committed (last accepted) state.
-    contact::Field tau_x, tau_y, u_t, u_z, pressure;
+    // Committed (last accepted) state. A cell's tangential position u_t, u_z
+    // at the accepted q is taken when the cell is first evaluated loaded
+    // after the acceptance (tangential_current): most cells stay open, and
+    // their two rows are not read.
+    contact::Field             tau_x, tau_y, u_t, u_z, pressure;
+    std::vector<double>        accepted_q;
+    std::vector<unsigned char> tangential_current;
     // Trial state of the last evaluation.
     contact::Field trial_tau_x, trial_tau_y, trial_pressure;
     std::vector<unsigned char> loaded;
@@ -276,6 +286,8 @@ namespace fretsim::coupling
     // local_compliance_modulus), its last pressure (the next solve's start)
     // and approach, and this evaluation's structural penetration and rate.
     std::unique_ptr<LocalCompliance> local;
+    /// Newton's matrix from single precision factors and products (with a half-space).
+    bool single_precision_jacobian = false;
     contact::Field                   local_pressure, local_penetration, structural, structural_rate;
     /// The ring's residual flexibility: a ball's u_r per N at the column
     /// angle, and the balls' residual u_r at the loads last set [m].
@@ -290,16 +302,22 @@ namespace fretsim::coupling
       , grid(ring.interface_grid)
       , n(ring.n)
       , cells(ring.interface_grid.size())
-      , rows(ring.interface_displacement.begin(), ring.interface_displacement.end())
+      , rows(ring.interface_displacement.size())
       , by_penetration(cells)
       , slip_stiffness(cells)
       , band_share(cells)
       , consistent(s.in_step_bristle_law == InStepBristleLaw::implicit_euler)
     {
+      for (std::size_t c = 0; c < cells; ++c)
+        for (int component = 0; component < 3; ++component)
+          std::copy_n(ring.interface_displacement.begin() + (3 * c + component) * n, n,
+                      rows.begin() + (row(c, component) - rows.data()));
       for (auto *field : {&tau_x, &tau_y, &u_t, &u_z, &pressure, &trial_tau_x, &trial_tau_y, &trial_pressure})
         field->assign(cells, 0.0);
       loaded.assign(cells, 0);
       slipping.assign(cells, 0);
+      accepted_q.assign(n, 0.0);
+      tangential_current.assign(cells, 0);
       if (settings.local_compliance_modulus > 0.0 || !ring.residual_pressure.empty())
         {
           const bool closed = std::abs(grid.nx * grid.hx - 2.0 * M_PI * radius) <= 1e-9 * radius;
@@ -310,6 +328,11 @@ namespace fretsim::coupling
                                                       ring.residual_pressure.empty() ? 0.0 : ring.residual_half_space_modulus,
                                                       settings.half_space_completion_wavelength},
                                                     UniformCompliance{settings.housing_uniform_compliance});
+          // Newton's matrix needs its pressure sensitivity to about 1 %:
+          // single precision gives 1e-6 where a half-space conditions it
+          // (without one the structural compliance alone is ill-conditioned).
+          single_precision_jacobian = settings.local_compliance_modulus > 0.0;
+          local->set_single_precision_factorisation(single_precision_jacobian);
           for (auto *field : {&local_pressure, &local_penetration})
             field->assign(cells, 0.0);
         }
@@ -434,6 +457,12 @@ namespace fretsim::coupling
                 trial_tau_x[c] = trial_tau_y[c] = 0.0;
                 continue;
               }
+            if (!tangential_current[c])
+              { // every cell's, open ones too: a cell that closes during a step slips from where it was
+                u_t[c]                = dot(row(c, 1), accepted_q.data());
+                u_z[c]                = dot(row(c, 2), accepted_q.data());
+                tangential_current[c] = 1;
+              }
             const double   ut = dot(row(c, 1), q_data), uz = dot(row(c, 2), q_data);
             const BristleStep step = bristle_traction(c, p, -(ut - u_t[c]), -(uz - u_z[c]), jacobian);
             trial_tau_x[c] = step.traction.x();
@@ -536,8 +565,9 @@ namespace fretsim::coupling
       for (Eigen::Index a = 0; a < m; ++a)
         {
           const std::size_t c = active[a];
-          g = Eigen::Map<const Eigen::Matrix<float, 3, Eigen::Dynamic, Eigen::RowMajor>>(row(c, 0), 3, size)
-                .cast<double>();
+          for (int component = 0; component < 3; ++component)
+            g.row(component) = Eigen::Map<const Eigen::Matrix<float, 1, Eigen::Dynamic>>(row(c, component), size)
+                                 .cast<double>();
           rows_of.radial.row(a) = g.row(0);
           rows_of.normal.row(a) = by_penetration[c].transpose() * g;
           if (consistent)
@@ -578,10 +608,21 @@ namespace fretsim::coupling
         return; // (and Eigen's product blocking divides by a zero depth)
       const auto            size    = static_cast<Eigen::Index>(n);
       const JacobianRows    rows_of = jacobian_rows(active);
-      const Eigen::MatrixXd normal  = cell_area * (rows_of.normal.transpose() * rows_of.radial);
+      // With the half-space the products over the loaded cells in single
+      // precision, twice as fast, like its sensitivity (see the constructor).
+      using FloatMatrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic>;
+      const auto in_single = [&](const RowMatrix &left, const RowMatrix &right) -> Eigen::MatrixXd {
+        const FloatMatrix product = cell_area * (left.cast<float>().transpose() * right.cast<float>());
+        return product.cast<double>();
+      };
+      const Eigen::MatrixXd normal = single_precision_jacobian
+                                       ? in_single(rows_of.normal, rows_of.radial)
+                                       : Eigen::MatrixXd(cell_area * (rows_of.normal.transpose() * rows_of.radial));
       Eigen::Map<RowMatrix> dq(out.by_position, size, size), dv(out.by_velocity, size, size);
       dq += normal;
-      if (consistent)
+      if (consistent && single_precision_jacobian)
+        dq -= in_single(rows_of.tangential, rows_of.slipped);
+      else if (consistent)
         dq.noalias() -= cell_area * (rows_of.tangential.transpose() * rows_of.slipped);
       else
         {
@@ -654,15 +695,9 @@ namespace fretsim::coupling
       impl->slipping[c] = impl->pressure[c] > 0.0 &&
                           std::hypot(impl->tau_x[c], impl->tau_y[c]) >=
                             slip_threshold * impl->settings.friction_coefficient * impl->pressure[c];
-    // Every cell's tangential position, open ones too: a cell that closes
-    // during the next step slips from where it was, not from zero.
-    const auto &d = *impl;
-#pragma omp parallel for schedule(static)
-    for (std::size_t c = 0; c < d.cells; ++c)
-      {
-        impl->u_t[c] = d.dot(d.row(c, 1), q);
-        impl->u_z[c] = d.dot(d.row(c, 2), q);
-      }
+    // The tangential positions from now on at this q (taken when needed).
+    impl->accepted_q.assign(q, q + impl->n);
+    std::fill(impl->tangential_current.begin(), impl->tangential_current.end(), 0);
   }
 
   const contact::Field &InterfaceContact::trial_pressure() const { return impl->trial_pressure; }

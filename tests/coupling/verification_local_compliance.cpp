@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numeric>
 
 using namespace fretsim;
@@ -608,4 +609,74 @@ TEST(LocalCompliance, TheSensitivityIsExactOnAnIllConditionedStructuralComplianc
   // condition times that).
   EXPECT_LT(error_of(direct), 1e-9);
   EXPECT_GT(error_of(iterative), 5e-3);
+}
+
+TEST(LocalCompliance, TheSinglePrecisionFactorisationIsWithinItsRoundingOnAHalfSpacePatch)
+{
+  // The co-simulation's Newton matrix takes the sensitivity from a single
+  // precision factorisation where a half-space conditions the operator. On
+  // a contact patch of a closed ring's grid (a half-space of steel, the
+  // scene's penalty layer) the columns against a dense double solve of
+  // C_AA + I/k_n assembled here from Love's coefficients (nearest image
+  // around the circumference): the double factorisation to rounding, the
+  // single one within 10 × the condition × float's epsilon, and far within
+  // the 1e-2 Newton's matrix needs.
+  const auto       grid = contact::SurfaceGrid::centred(120, 8, 2.0 * M_PI * 0.04, 0.008);
+  constexpr double modulus = 2.3e11, layer_stiffness = 1e18; // [Pa], [Pa/m]
+  std::vector<std::size_t> loaded;
+  for (int j = 0; j < grid.ny; ++j) // a patch of uneven extent, a few cells inside it open
+    for (int i = 0; i < 30 + 3 * j; ++i)
+      if ((i * 7 + j * 3) % 13 != 0)
+        loaded.push_back(grid.index(i, j));
+  const std::size_t   m = loaded.size(), columns = 4;
+  std::vector<double> rows(m * columns);
+  for (std::size_t a = 0; a < m; ++a)
+    {
+      const double theta = 2.0 * M_PI * static_cast<double>(loaded[a] % grid.nx) / grid.nx;
+      const double y     = static_cast<double>(loaded[a] / grid.nx);
+      rows[a * columns + 0] = 1e-6;
+      rows[a * columns + 1] = 1e-6 * std::cos(theta) * (1.0 + 0.1 * y);
+      rows[a * columns + 2] = 1e-6 * std::sin(5.0 * theta) - 2e-7 * y;
+      rows[a * columns + 3] = (a % 2 == 0 ? 1e-7 : -1e-7);
+    }
+  Eigen::MatrixXd dense(m, m);
+  for (std::size_t a = 0; a < m; ++a)
+    for (std::size_t b = 0; b < m; ++b)
+      {
+        const int di = static_cast<int>(loaded[a] % grid.nx) - static_cast<int>(loaded[b] % grid.nx);
+        const int dj = static_cast<int>(loaded[a] / grid.nx) - static_cast<int>(loaded[b] / grid.nx);
+        dense(a, b)  = periodic_love(grid, di, dj, modulus) + (a == b ? 1.0 / layer_stiffness : 0.0);
+      }
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> spectrum(dense);
+  const double condition = spectrum.eigenvalues().maxCoeff() / spectrum.eigenvalues().minCoeff();
+  const Eigen::MatrixXd exact =
+    dense.llt().solve(Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+      rows.data(), static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(columns)));
+  const auto error_of = [&](bool single) {
+    LocalCompliance half_space(grid, modulus, layer_stiffness, true);
+    half_space.set_single_precision_factorisation(single);
+    std::vector<double> sensitivity;
+    half_space.pressure_sensitivity(loaded, rows.data(), columns, sensitivity);
+    EXPECT_EQ(half_space.statistics().sensitivity_factorisations, 1u);
+    double worst = 0.0;
+    for (std::size_t k = 0; k < columns; ++k)
+      {
+        double difference = 0.0, size = 0.0;
+        for (std::size_t a = 0; a < m; ++a)
+          {
+            difference = std::max(difference, std::abs(sensitivity[a * columns + k] - exact(a, k)));
+            size       = std::max(size, std::abs(exact(a, k)));
+          }
+        worst = std::max(worst, difference / size);
+      }
+    return worst;
+  };
+  const double in_double = error_of(false), in_single = error_of(true);
+  const double epsilon = std::numeric_limits<float>::epsilon();
+  std::printf("%zu cells, condition %.3g: sensitivity error, double %.2g, single %.2g (condition x epsilon %.2g)\n",
+              m, condition, in_double, in_single, condition * epsilon);
+  EXPECT_LT(in_double, 1e-9);
+  EXPECT_LT(in_single, 10.0 * condition * epsilon);
+  EXPECT_LT(in_single, 1e-3);
+  EXPECT_GT(in_single, in_double); // it is the single precision one
 }

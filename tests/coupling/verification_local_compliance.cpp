@@ -124,6 +124,55 @@ namespace
       return out;
     };
   }
+
+  /// A contact patch of uneven extent (base + growth·j cells in row j), a few
+  /// cells inside it open.
+  std::vector<std::size_t> uneven_patch(const contact::SurfaceGrid &grid, int base, int growth, int open_every)
+  {
+    std::vector<std::size_t> loaded;
+    for (int j = 0; j < grid.ny; ++j)
+      for (int i = 0; i < base + growth * j; ++i)
+        if ((i * 7 + j * 3) % open_every != 0)
+          loaded.push_back(grid.index(i, j));
+    return loaded;
+  }
+
+  /// Smooth right-hand sides over the patch's cells, row-major [cell][column]:
+  /// a constant, a first and a `harmonic`-th harmonic around, and with a
+  /// fourth column an alternating one.
+  std::vector<double> patch_rows(const contact::SurfaceGrid &grid, const std::vector<std::size_t> &loaded,
+                                 std::size_t columns, double harmonic)
+  {
+    std::vector<double> rows(loaded.size() * columns);
+    for (std::size_t a = 0; a < loaded.size(); ++a)
+      {
+        const double theta = 2.0 * M_PI * static_cast<double>(loaded[a] % grid.nx) / grid.nx;
+        const double y     = static_cast<double>(loaded[a] / grid.nx);
+        rows[a * columns + 0] = 1e-6;
+        rows[a * columns + 1] = 1e-6 * std::cos(theta) * (1.0 + 0.1 * y);
+        rows[a * columns + 2] = 1e-6 * std::sin(harmonic * theta) - 2e-7 * y;
+        if (columns > 3)
+          rows[a * columns + 3] = (a % 2 == 0 ? 1e-7 : -1e-7);
+      }
+    return rows;
+  }
+  /// The largest over the columns of max |s - exact| / max |exact| (s row-major [cell][column]).
+  double worst_column_error(const std::vector<double> &sensitivity, const Eigen::MatrixXd &exact)
+  {
+    double worst = 0.0;
+    for (Eigen::Index k = 0; k < exact.cols(); ++k)
+      {
+        double difference = 0.0, size = 0.0;
+        for (Eigen::Index a = 0; a < exact.rows(); ++a)
+          {
+            difference = std::max(difference,
+                                  std::abs(sensitivity[static_cast<std::size_t>(a * exact.cols() + k)] - exact(a, k)));
+            size       = std::max(size, std::abs(exact(a, k)));
+          }
+        worst = std::max(worst, difference / size);
+      }
+    return worst;
+  }
 } // namespace
 
 TEST(LocalCompliance, ASpherePressedIntoTheHalfSpaceCarriesHertzsLoadAndPeak)
@@ -553,21 +602,9 @@ TEST(LocalCompliance, TheSensitivityIsExactOnAnIllConditionedStructuralComplianc
     return scale * sum;
   };
   const std::vector<double> table = structural_table(grid, [&](int di, int) { return kernel(di); });
-  std::vector<std::size_t>  loaded;
-  for (int j = 0; j < grid.ny; ++j) // a patch of uneven extent, a few cells inside it open
-    for (int i = 0; i < 24 + 4 * j; ++i)
-      if ((i * 7 + j * 3) % 11 != 0)
-        loaded.push_back(grid.index(i, j));
-  const std::size_t   m = loaded.size(), columns = 3;
-  std::vector<double> rows(m * columns);
-  for (std::size_t a = 0; a < m; ++a)
-    {
-      const double theta = 2.0 * M_PI * static_cast<double>(loaded[a] % grid.nx) / grid.nx;
-      const double y     = static_cast<double>(loaded[a] / grid.nx);
-      rows[a * columns + 0] = 1e-6;
-      rows[a * columns + 1] = 1e-6 * std::cos(theta) * (1.0 + 0.1 * y);
-      rows[a * columns + 2] = 1e-6 * std::sin(3.0 * theta) - 2e-7 * y;
-    }
+  const std::vector<std::size_t> loaded = uneven_patch(grid, 24, 4, 11);
+  const std::size_t              m = loaded.size(), columns = 3;
+  const std::vector<double>      rows = patch_rows(grid, loaded, columns, 3.0);
   Eigen::MatrixXd dense(m, m);
   for (std::size_t a = 0; a < m; ++a)
     for (std::size_t b = 0; b < m; ++b)
@@ -578,20 +615,7 @@ TEST(LocalCompliance, TheSensitivityIsExactOnAnIllConditionedStructuralComplianc
   const Eigen::MatrixXd exact =
     dense.llt().solve(Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
       rows.data(), static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(columns)));
-  const auto error_of = [&](const std::vector<double> &sensitivity) {
-    double worst = 0.0;
-    for (std::size_t k = 0; k < columns; ++k)
-      {
-        double difference = 0.0, size = 0.0;
-        for (std::size_t a = 0; a < m; ++a)
-          {
-            difference = std::max(difference, std::abs(sensitivity[a * columns + k] - exact(a, k)));
-            size       = std::max(size, std::abs(exact(a, k)));
-          }
-        worst = std::max(worst, difference / size);
-      }
-    return worst;
-  };
+  const auto error_of = [&](const std::vector<double> &sensitivity) { return worst_column_error(sensitivity, exact); };
   std::vector<double> direct, iterative;
   LocalCompliance     factored(grid, 0.0, layer_stiffness, true, LocalCompliance::default_sensitivity_tolerance, table);
   factored.pressure_sensitivity(loaded, rows.data(), columns, direct);
@@ -623,22 +647,9 @@ TEST(LocalCompliance, TheSinglePrecisionFactorisationIsWithinItsRoundingOnAHalfS
   // the 1e-2 Newton's matrix needs.
   const auto       grid = contact::SurfaceGrid::centred(120, 8, 2.0 * M_PI * 0.04, 0.008);
   constexpr double modulus = 2.3e11, layer_stiffness = 1e18; // [Pa], [Pa/m]
-  std::vector<std::size_t> loaded;
-  for (int j = 0; j < grid.ny; ++j) // a patch of uneven extent, a few cells inside it open
-    for (int i = 0; i < 30 + 3 * j; ++i)
-      if ((i * 7 + j * 3) % 13 != 0)
-        loaded.push_back(grid.index(i, j));
-  const std::size_t   m = loaded.size(), columns = 4;
-  std::vector<double> rows(m * columns);
-  for (std::size_t a = 0; a < m; ++a)
-    {
-      const double theta = 2.0 * M_PI * static_cast<double>(loaded[a] % grid.nx) / grid.nx;
-      const double y     = static_cast<double>(loaded[a] / grid.nx);
-      rows[a * columns + 0] = 1e-6;
-      rows[a * columns + 1] = 1e-6 * std::cos(theta) * (1.0 + 0.1 * y);
-      rows[a * columns + 2] = 1e-6 * std::sin(5.0 * theta) - 2e-7 * y;
-      rows[a * columns + 3] = (a % 2 == 0 ? 1e-7 : -1e-7);
-    }
+  const std::vector<std::size_t> loaded = uneven_patch(grid, 30, 3, 13);
+  const std::size_t              m = loaded.size(), columns = 4;
+  const std::vector<double>      rows = patch_rows(grid, loaded, columns, 5.0);
   Eigen::MatrixXd dense(m, m);
   for (std::size_t a = 0; a < m; ++a)
     for (std::size_t b = 0; b < m; ++b)
@@ -658,18 +669,7 @@ TEST(LocalCompliance, TheSinglePrecisionFactorisationIsWithinItsRoundingOnAHalfS
     std::vector<double> sensitivity;
     half_space.pressure_sensitivity(loaded, rows.data(), columns, sensitivity);
     EXPECT_EQ(half_space.statistics().sensitivity_factorisations, 1u);
-    double worst = 0.0;
-    for (std::size_t k = 0; k < columns; ++k)
-      {
-        double difference = 0.0, size = 0.0;
-        for (std::size_t a = 0; a < m; ++a)
-          {
-            difference = std::max(difference, std::abs(sensitivity[a * columns + k] - exact(a, k)));
-            size       = std::max(size, std::abs(exact(a, k)));
-          }
-        worst = std::max(worst, difference / size);
-      }
-    return worst;
+    return worst_column_error(sensitivity, exact);
   };
   const double in_double = error_of(false), in_single = error_of(true);
   const double epsilon = std::numeric_limits<float>::epsilon();

@@ -169,17 +169,7 @@ namespace
 
 TEST(ShiftedStaticSolver, ZeroShiftIsThePlainStaticSolve)
 {
-  // A quarter ring held by symmetry planes and plane strain: K is regular.
-  MeshDivisions d;
-  d.circumferential = 8;
-  d.radial_ring     = 1;
-  d.axial           = 2;
-  d.axial_land      = 1;
-  d.sector_angle    = 0.5 * M_PI;
-  ElasticModel model(std::make_shared<const Mesh>(Mesh::ring(ring_6208(), d)), {{MaterialId::ring, steel}}, 2,
-                     {{BoundaryId::side_faces, false, false, true},
-                      {BoundaryId::sector_start, false, true, false},
-                      {BoundaryId::sector_end, true, false, false}});
+  ElasticModel model = supported_quarter_ring(2);
   StaticLoad load;
   load.ball_loads.push_back(ball(0.25 * M_PI, 2000.0));
   const DisplacementField plain = model.solve_static(load);

@@ -61,7 +61,7 @@ namespace fretsim::fem
     /// The loads in blocks of at most `columns` right-hand sides (KSPMatSolve:
     /// MatMatSolve of the MUMPS factor), each field handed to `use` in order.
     void solve_blocks(const std::vector<StaticLoad> &loads, std::size_t columns,
-                      const std::function<void(std::size_t, DisplacementField &&)> &use);
+                      const std::function<void(std::size_t, const DisplacementField &)> &use);
 
     ~Impl()
     {
@@ -195,24 +195,15 @@ namespace fretsim::fem
     return impl->model->field_from_vector(impl->u);
   }
 
-  std::vector<DisplacementField> ShiftedStaticSolver::solve(const std::vector<StaticLoad> &loads)
-  {
-    std::vector<DisplacementField> fields;
-    fields.reserve(loads.size());
-    impl->solve_blocks(loads, block_columns,
-                       [&](std::size_t, DisplacementField &&u) { fields.push_back(std::move(u)); });
-    return fields;
-  }
-
   void ShiftedStaticSolver::solve_each(const std::vector<StaticLoad>                                  &loads,
                                        const std::function<void(std::size_t, const DisplacementField &)> &use,
                                        const std::size_t                                                columns)
   {
-    impl->solve_blocks(loads, columns, [&](std::size_t i, DisplacementField &&u) { use(i, u); });
+    impl->solve_blocks(loads, columns, use);
   }
 
   void ShiftedStaticSolver::Impl::solve_blocks(const std::vector<StaticLoad> &loads, const std::size_t columns,
-                                               const std::function<void(std::size_t, DisplacementField &&)> &use)
+                                               const std::function<void(std::size_t, const DisplacementField &)> &use)
   {
     if (columns == 0)
       throw std::invalid_argument("fem::ShiftedStaticSolver: a block needs at least one column");
@@ -254,10 +245,10 @@ namespace fretsim::fem
             check_petsc(MatDenseGetColumnVec(solution.mat, static_cast<PetscInt>(j), &column), "MatDenseGetColumnVec");
             remove_rigid_motion(column);
             solving += since(start);
-            DisplacementField u = model->field_from_vector(column);
+            const DisplacementField u = model->field_from_vector(column);
             check_petsc(MatDenseRestoreColumnVec(solution.mat, static_cast<PetscInt>(j), &column),
                         "MatDenseRestoreColumnVec");
-            use(first + j, std::move(u));
+            use(first + j, u);
           }
       }
     load_seconds  = assembling;

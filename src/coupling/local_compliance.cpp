@@ -10,7 +10,6 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
-#include <type_traits>
 
 namespace fretsim::coupling
 {
@@ -647,22 +646,12 @@ namespace fretsim::coupling
     const Eigen::Map<const RowMatrix> right(rhs, m, width);
     Eigen::Map<RowMatrix>             answer(result.data(), m, width);
     // (LLT reads the lower triangle only, the one filled)
-    if constexpr (std::is_same_v<Scalar, double>)
-      {
-        const Eigen::LLT<Matrix> factor(operator_aa);
-        if (factor.info() != Eigen::Success)
-          return false;
-        answer = factor.solve(right);
-      }
-    else
-      {
-        const Eigen::LLT<Matrix> factor(operator_aa.template cast<Scalar>());
-        if (factor.info() != Eigen::Success)
-          return false;
-        Matrix solution = right.template cast<Scalar>();
-        factor.solveInPlace(solution);
-        answer = solution.template cast<double>();
-      }
+    const Eigen::LLT<Matrix> factor(operator_aa.template cast<Scalar>());
+    if (factor.info() != Eigen::Success)
+      return false;
+    Matrix solution = right.template cast<Scalar>();
+    factor.solveInPlace(solution);
+    answer = solution.template cast<double>();
     return true;
   }
 

@@ -608,22 +608,19 @@ namespace fretsim::coupling
         return; // (and Eigen's product blocking divides by a zero depth)
       const auto            size    = static_cast<Eigen::Index>(n);
       const JacobianRows    rows_of = jacobian_rows(active);
-      // With the half-space the products over the loaded cells in single
+      // A Lᵀ R over the loaded cells; with the half-space in single
       // precision, twice as fast, like its sensitivity (see the constructor).
-      using FloatMatrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic>;
-      const auto in_single = [&](const RowMatrix &left, const RowMatrix &right) -> Eigen::MatrixXd {
-        const FloatMatrix product = cell_area * (left.cast<float>().transpose() * right.cast<float>());
-        return product.cast<double>();
+      const auto product = [&](const RowMatrix &left, const RowMatrix &right) -> Eigen::MatrixXd {
+        if (!single_precision_jacobian)
+          return cell_area * (left.transpose() * right);
+        const Eigen::MatrixXf in_single = cell_area * (left.cast<float>().transpose() * right.cast<float>());
+        return in_single.cast<double>();
       };
-      const Eigen::MatrixXd normal = single_precision_jacobian
-                                       ? in_single(rows_of.normal, rows_of.radial)
-                                       : Eigen::MatrixXd(cell_area * (rows_of.normal.transpose() * rows_of.radial));
+      const Eigen::MatrixXd normal = product(rows_of.normal, rows_of.radial);
       Eigen::Map<RowMatrix> dq(out.by_position, size, size), dv(out.by_velocity, size, size);
       dq += normal;
-      if (consistent && single_precision_jacobian)
-        dq -= in_single(rows_of.tangential, rows_of.slipped);
-      else if (consistent)
-        dq.noalias() -= cell_area * (rows_of.tangential.transpose() * rows_of.slipped);
+      if (consistent)
+        dq -= product(rows_of.tangential, rows_of.slipped);
       else
         {
           Eigen::MatrixXd tangential = Eigen::MatrixXd::Zero(size, size);

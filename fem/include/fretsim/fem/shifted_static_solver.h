@@ -25,7 +25,7 @@
 // the round-off that 1/|σ| amplifies along the rigid motions). For an exactly
 // self-equilibrated load both are the same.
 //
-// Many loads at once: solve(loads) and solve_each() solve them as blocks of
+// Many loads at once: solve_each() solves them as blocks of
 // right-hand sides (MUMPS's triangular solves with many columns run at
 // BLAS-3 speed; one column at a time they mostly repack the factor). Each
 // load gets exactly what solve(load) does, relief included, to round-off.
@@ -57,9 +57,6 @@ namespace fretsim::fem
 
     /// Assembles the load vector of `load` and solves.
     DisplacementField solve(const StaticLoad &load);
-    /// Every load solved, in blocks of `block_columns`; the fields in the
-    /// loads' order (all of them held at once: solve_each() holds one).
-    std::vector<DisplacementField> solve(const std::vector<StaticLoad> &loads);
     /// Every load solved in blocks of at most `columns`, and `use(i, u_i)`
     /// called for each in the loads' order, one field alive at a time.
     void solve_each(const std::vector<StaticLoad>                                  &loads,

@@ -339,6 +339,63 @@ namespace fretsim::coupling
       Eigen::MatrixXd lower_left; ///< A₂₁ (Schur form only)
       double          gamma = 0.0;
       bool            schur = false;
+      /// Broyden's second method on the inverse: H = A⁻¹ + Σ_i c_i y_iᵀ / (y_iᵀ y_i)
+      /// over the stage's iterations so far, each making H y_i = s_i for the
+      /// change y_i of the right-hand side (Newton's residual, negated) along
+      /// the correction s_i it followed. Cleared by a set-up and a new stage.
+      void                        *arkode = nullptr; ///< set with secant updates only
+      std::vector<Eigen::VectorXd> secant_corrections, residual_changes;
+      Eigen::VectorXd              last_rhs, last_solution;
+      double                       stage_time = 0.0, stage_gamma = 0.0;
+
+      Eigen::VectorXd solve_set_up(const Eigen::VectorXd &rhs) const
+      {
+        if (!schur)
+          return lu.solve(rhs);
+        const auto      n = lu.rows();
+        Eigen::VectorXd solution(2 * n);
+        solution.tail(n) = lu.solve(rhs.tail(n) - lower_left * rhs.head(n));
+        solution.head(n) = rhs.head(n) + gamma * solution.tail(n);
+        return solution;
+      }
+
+      Eigen::VectorXd solve_updated(const Eigen::VectorXd &rhs) const
+      {
+        Eigen::VectorXd solution = solve_set_up(rhs);
+        for (std::size_t i = 0; i < secant_corrections.size(); ++i)
+          solution += secant_corrections[i] * (residual_changes[i].dot(rhs) / residual_changes[i].squaredNorm());
+        return solution;
+      }
+
+      void clear_updates()
+      {
+        secant_corrections.clear();
+        residual_changes.clear();
+      }
+
+      /// Adds the update from the last iteration unless `rhs` starts a stage
+      /// (another stage time or γ: a new stage, step or attempt).
+      void update(const Eigen::VectorXd &rhs)
+      {
+        realtype time, stage_gamma_now;
+        N_Vector predicted, iterate, stage_rhs, stage_data;
+        void    *user;
+        ARKStepGetNonlinearSystemData(arkode, &time, &predicted, &iterate, &stage_rhs, &stage_gamma_now, &stage_data,
+                                      &user);
+        if (time != stage_time || stage_gamma_now != stage_gamma || last_rhs.size() != rhs.size())
+          {
+            clear_updates();
+            stage_time  = time;
+            stage_gamma = stage_gamma_now;
+            return;
+          }
+        Eigen::VectorXd change = last_rhs - rhs;
+        if (!(change.squaredNorm() > 0.0))
+          return;
+        Eigen::VectorXd correction = last_solution - solve_updated(change);
+        secant_corrections.push_back(std::move(correction));
+        residual_changes.push_back(std::move(change));
+      }
     };
 
     SUNLinearSolver_Type eigen_lu_type(SUNLinearSolver) { return SUNLINEARSOLVER_DIRECT; }
@@ -359,6 +416,8 @@ namespace fretsim::coupling
       const auto rows = SM_ROWS_D(A), columns = SM_COLUMNS_D(A);
       const Eigen::Map<const Eigen::MatrixXd> a(SM_DATA_D(A), rows, columns);
       const Eigen::Index                      n = rows / 2;
+      d.clear_updates();
+      d.last_rhs.resize(0);
       d.schur = rows % 2 == 0 && has_velocity_block_structure(a, n, d.gamma);
       if (d.schur)
         {
@@ -372,18 +431,19 @@ namespace fretsim::coupling
 
     int eigen_lu_solve(SUNLinearSolver solver, SUNMatrix, N_Vector x, N_Vector b, realtype)
     {
-      const auto &d    = *static_cast<EigenLu *>(solver->content);
-      const auto  size = d.schur ? 2 * d.lu.rows() : d.lu.rows();
+      auto      &d    = *static_cast<EigenLu *>(solver->content);
+      const auto size = d.schur ? 2 * d.lu.rows() : d.lu.rows();
       const Eigen::Map<const Eigen::VectorXd> rhs(N_VGetArrayPointer(b), size);
       Eigen::Map<Eigen::VectorXd>             solution(N_VGetArrayPointer(x), size);
-      if (!d.schur)
+      if (d.arkode == nullptr)
         {
-          solution = d.lu.solve(rhs);
+          solution = d.solve_set_up(rhs);
           return 0;
         }
-      const auto n      = d.lu.rows();
-      solution.tail(n) = d.lu.solve(rhs.tail(n) - d.lower_left * rhs.head(n));
-      solution.head(n) = rhs.head(n) + d.gamma * solution.tail(n);
+      d.update(rhs);
+      d.last_rhs      = rhs;
+      d.last_solution = d.solve_updated(rhs);
+      solution        = d.last_solution;
       return 0;
     }
 
@@ -459,6 +519,13 @@ namespace fretsim::coupling
       sun.matrix = SUNDenseMatrix(static_cast<sunindextype>(2 * n), static_cast<sunindextype>(2 * n), sun.context);
       sun.solver = make_eigen_lu(sun.context);
       check(ARKStepSetLinearSolver(sun.arkode, sun.solver, sun.matrix), "ARKStepSetLinearSolver");
+      if (s.integrator.secant_updates)
+        {
+          static_cast<EigenLu *>(sun.solver->content)->arkode = sun.arkode;
+          // The updates need the correction Newton takes to be the solve's:
+          // no rescaling for a γ that changed since the set-up.
+          check(ARKStepSetLinearSolutionScaling(sun.arkode, SUNFALSE), "ARKStepSetLinearSolutionScaling");
+        }
       check(ARKStepSetJacFn(sun.arkode, arkode_jacobian), "ARKStepSetJacFn");
       check(ARKStepSetOrder(sun.arkode, s.integrator.order), "ARKStepSetOrder");
       check(ARKStepSetNonlinConvCoef(sun.arkode, s.integrator.newton_tolerance), "ARKStepSetNonlinConvCoef");

@@ -72,6 +72,12 @@ namespace fretsim::coupling
     /// solve with the half-space, was a third of all; its value differs from
     /// the deduced one by Newton's unconverged part only (docs/bearing.md).
     bool deduce_stage_derivative = true;
+    /// Broyden's secant updates of the Newton matrix between the Newton
+    /// iterations of a stage: the loaded cells change within the iteration,
+    /// so the matrix set up at its start misses the stiffness of cells that
+    /// close and keeps that of cells that open; each update corrects it along
+    /// the last correction for a few vector products (docs/bearing.md).
+    bool secant_updates = true;
   };
 
   struct CosimulationSettings

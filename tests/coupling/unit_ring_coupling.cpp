@@ -305,15 +305,18 @@ TEST(BallTransfer, ThePressuresResidualAtTheBallsIsTheTransposeOfTheBallsResidua
   const double        radius = ring.interface_radius, column_angle = grid.x(4) / radius;
   std::mt19937        generator(5);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  std::vector<double> table(grid.size()), pressure(grid.size());
+  // Three footprints' tables, each ball's blended at its load.
+  const std::vector<double> footprint_loads{200.0, 1500.0, 4000.0};
+  std::vector<double>       table(footprint_loads.size() * grid.size()), pressure(grid.size());
   for (double &value : table)
     value = 1e-10 * (uniform(generator) - 0.2); // m/N, either sign
   for (double &value : pressure)
     value = 1e6 * uniform(generator);
   const std::vector<double> angles{0.0123, 1.7, 3.1, -0.4, 6.25}, loads{500.0, 0.0, 3000.0, 1200.0, 80.0};
   std::vector<double>       field(grid.size(), 0.0);
-  add_ball_residual(grid, radius, table, column_angle, angles, loads, field);
-  const auto inward = pressure_residual_at_balls(grid, radius, table, column_angle, angles, pressure);
+  add_ball_residual(grid, radius, table, footprint_loads, column_angle, angles, loads, field);
+  const auto inward =
+    pressure_residual_at_balls(grid, radius, table, footprint_loads, column_angle, angles, loads, pressure);
   ASSERT_EQ(inward.size(), angles.size());
   double interface_work = 0.0, ball_work = 0.0;
   for (std::size_t c = 0; c < field.size(); ++c)
@@ -322,11 +325,14 @@ TEST(BallTransfer, ThePressuresResidualAtTheBallsIsTheTransposeOfTheBallsResidua
     ball_work += loads[b] * inward[b];
   EXPECT_NEAR(ball_work / interface_work, 1.0, 1e-12);
 
-  // A ball at the table's own column and one pressed cell read the table.
+  // A ball at the table's own column and one pressed cell read the table
+  // of its footprint (a load tabulated: that footprint's alone).
   std::vector<double> one_cell(grid.size(), 0.0);
   one_cell[grid.index(7, 2)] = 2e6;
-  const auto at_column = pressure_residual_at_balls(grid, radius, table, column_angle, {column_angle}, one_cell);
-  EXPECT_DOUBLE_EQ(at_column[0], table[grid.index(7, 2)] * 2e6 * grid.cell_area());
+  const auto at_column =
+    pressure_residual_at_balls(grid, radius, table, footprint_loads, column_angle, {column_angle}, {1500.0}, one_cell);
+  EXPECT_NEAR(at_column[0], table[grid.size() + grid.index(7, 2)] * 2e6 * grid.cell_area(),
+              1e-12 * std::abs(at_column[0]));
 }
 
 TEST(BallTransfer, TheRacewaysResidualInwardDisplacementActsAsLessClearance)

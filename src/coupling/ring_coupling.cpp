@@ -48,8 +48,8 @@ namespace fretsim::coupling
     /// between the grid's columns, for each cell of the columns i where
     /// wanted(b, i) (the others contribute nothing): the one placement both
     /// directions of the reciprocal pair use, so that they are each other's
-    /// transposes exactly.
-    /// The table of ball b's footprint: blended between two footprints' at its load.
+    /// transposes exactly. Ball b's table is its footprint's, blended at its
+    /// load (footprint_blend) where it is read: most columns are not visited.
     template <class Wanted, class Visit>
     void for_each_shifted_ball_cell(const contact::SurfaceGrid &grid, double radius, const std::vector<double> &table,
                                     const std::vector<double> &footprint_loads, double column_angle,
@@ -59,32 +59,24 @@ namespace fretsim::coupling
       const int         nx = grid.nx, ny = grid.ny;
       const double      angle_step = grid.hx / radius;
       const std::size_t cells      = grid.size();
-      std::vector<double> blended;
       for (std::size_t b = 0; b < angles.size(); ++b)
         {
-          const double *ball = table.data();
-          if (footprint_loads.size() > 1)
-            {
-              const FootprintBlend blend = footprint_blend(footprint_loads, loads[b]);
-              blended.assign(cells, 0.0);
-              for (std::size_t m = 0; m < blend.count; ++m)
-                {
-                  const double *footprint = table.data() + (blend.first + m) * cells;
-                  for (std::size_t c = 0; c < cells; ++c)
-                    blended[c] += blend.weights[m] * footprint[c];
-                }
-              ball = blended.data();
-            }
+          const FootprintBlend blend = footprint_blend(footprint_loads, loads[b]);
+          const auto           at    = [&](std::size_t cell) {
+            double value = 0.0;
+            for (std::size_t m = 0; m < blend.count; ++m)
+              value += blend.weights[m] * table[(blend.first + m) * cells + cell];
+            return value;
+          };
           const double shift = std::remainder(angles[b] - column_angle, 2.0 * M_PI) / angle_step;
           for (int i = 0; i < nx; ++i)
             {
               if (!wanted(b, i))
                 continue;
-              const double at = i - shift, lower = std::floor(at), fraction = at - lower;
+              const double at_column = i - shift, lower = std::floor(at_column), fraction = at_column - lower;
               const int    k0 = ((static_cast<int>(lower) % nx) + nx) % nx, k1 = (k0 + 1) % nx;
               for (int j = 0; j < ny; ++j)
-                visit(b, grid.index(i, j),
-                      (1.0 - fraction) * ball[grid.index(k0, j)] + fraction * ball[grid.index(k1, j)]);
+                visit(b, grid.index(i, j), (1.0 - fraction) * at(grid.index(k0, j)) + fraction * at(grid.index(k1, j)));
             }
         }
     }

@@ -116,7 +116,7 @@ namespace fretsim::scenes
                         "footprints loads (the model and tables get -hertz in their names); fixed, the reduction "
                         "configuration's Reduction/Ball footprint semi-axes whatever the load [-].",
                         "load following|fixed"),
-        Spec::integer_range("Model/Ball footprints", "5",
+        Spec::integer_range("Model/Ball footprints", "7",
                             "Load following: how many ball loads' Hertz ellipses the model and tables hold (odd: the "
                             "rows are quadratic in load^(1/3) over pieces of three), equally spaced in load^(1/3) from "
                             "a point load up to the load at which the outer contact's peak pressure reaches ISO 76's "

@@ -136,7 +136,7 @@ TEST(BearingScene, RunsEndToEndAndTheInterfaceSeesTheBallPass)
   const auto compare =
     fretsim::app::read_compare_inputs((dir / "scene.prm").string(), {{"Model/Characteristic constraint modes", "20"}});
   EXPECT_EQ(compare.model_file, (dir / "model-ncc20-hertz.h5").string());
-  // The basis, then the footprints that follow the load (five Hertz ellipses).
+  // The basis, then the footprints that follow the load (seven Hertz ellipses).
   ASSERT_EQ(compare.model_overrides.size(), 4u);
   EXPECT_EQ(compare.model_overrides[0],
             (std::pair<std::string, std::string>{"Reduction/Characteristic constraint modes", "20"}));

@@ -38,7 +38,7 @@ namespace
 // scene's stress path against the reference's, to rounding). Measured, the
 // balls' footprints following their loads: peak pressure co-simulation
 // 66.5 MPa against the full FE's 85.4 / 99.2 MPa (72 / 144 around), D_max
-// 0.0822 against 0.0789 / 0.168 (with the fixed 0.3 × 1.3 mm footprint 68.6
+// 0.0821 against 0.0788 / 0.168 (with the fixed 0.3 × 1.3 mm footprint 68.6
 // against 86.1 / 103.3 MPa, D_max 0.0822 against 0.0795 / 0.182): on this coarse
 // grid (3.5 × 4.5 mm cells) the run's pressure under a ball is a third
 // below the full FE's (docs/fe_reference.md).

@@ -172,8 +172,6 @@ namespace fretsim::models
 
   void add_ball_row(const Truncation &t, double angle, double load, double factor, std::vector<double> &row)
   {
-    if (t.footprint_loads.size() < 2)
-      return add_footprint_row(t, 0, angle, factor, row);
     const coupling::FootprintBlend blend = coupling::footprint_blend(t.footprint_loads, load);
     for (std::size_t m = 0; m < blend.count; ++m)
       add_footprint_row(t, blend.first + m, angle, factor * blend.weights[m], row);

@@ -132,8 +132,6 @@ namespace fretsim::models::detail
                        const Vector &tables, int components, std::size_t layers, Add add)
   {
     const std::size_t per_footprint = static_cast<std::size_t>(period) * layers * grid.size() * components;
-    if (footprint_loads.size() < 2)
-      return add_ball_table(grid, period, psi, q, tables.data(), components, layers, add);
     const coupling::FootprintBlend blend = coupling::footprint_blend(footprint_loads, q);
     for (std::size_t m = 0; m < blend.count; ++m)
       add_ball_table(grid, period, psi, blend.weights[m] * q, tables.data() + (blend.first + m) * per_footprint,

@@ -34,7 +34,9 @@ namespace fretsim::reduction
   namespace
   {
     constexpr const char *format_name    = "fretsim reduced model";
-    constexpr int         format_version = 3; // 2: the ring's residual flexibility; 3: the housing's (older files: rebuilt)
+    // 2: the ring's residual flexibility; 3: the housing's; 4: raceway footprints that follow the ball load (older
+    // files: rebuilt)
+    constexpr int format_version = 4;
 
     /// An HDF5 id closed on scope exit.
     class Id
@@ -206,13 +208,69 @@ namespace fretsim::reduction
     return result;
   }
 
+  std::vector<double> RacewayOperators::footprint_loads() const
+  {
+    std::vector<double> loads;
+    if (follows_load())
+      for (const BallFootprint &f : footprints)
+        loads.push_back(f.load);
+    return loads;
+  }
+
+  BallFootprint RacewayOperators::footprint_at(const double load) const
+  {
+    if (footprints.empty())
+      throw std::logic_error("reduction::RacewayOperators: no footprint");
+    BallFootprint f = footprints.back();
+    if (!follows_load())
+      return f;
+    if (!(load > 0.0)) // no ellipse: the smallest footprint stands for it
+      return footprints.front();
+    const double scale = std::cbrt(load / f.load);
+    return {scale * f.semi_axis_circumferential, scale * f.semi_axis_transverse, load};
+  }
+
+  void check_footprints(const std::vector<BallFootprint> &footprints)
+  {
+    const auto fail = [](const std::string &problem) { throw std::invalid_argument(problem); };
+    if (footprints.empty())
+      fail("no footprint");
+    for (const BallFootprint &f : footprints)
+      if (!(f.semi_axis_circumferential > 0.0 && f.semi_axis_transverse > 0.0 && f.load >= 0.0))
+        fail("footprint semi-axes must be > 0 and loads >= 0");
+    if (footprints.size() == 1 && footprints.front().load == 0.0)
+      return;
+    const BallFootprint &last = footprints.back();
+    for (std::size_t i = 0; i < footprints.size(); ++i)
+      {
+        const BallFootprint &f = footprints[i];
+        if (!(f.load > 0.0) || (i > 0 && !(f.load > footprints[i - 1].load)))
+          fail("footprint loads must be > 0 and increasing (one footprint of load 0: a fixed footprint)");
+        const double scale = std::cbrt(f.load / last.load);
+        if (std::abs(f.semi_axis_circumferential / (scale * last.semi_axis_circumferential) - 1.0) > 1e-6 ||
+            std::abs(f.semi_axis_transverse / (scale * last.semi_axis_transverse) - 1.0) > 1e-6)
+          fail("footprints of different loads must be the Hertz ellipses of those loads (semi-axes as load^(1/3))");
+      }
+  }
+
+  fem::RacewayBallLoad unit_ball(const fem::RingGeometry &ring, const double angle, const BallFootprint &footprint)
+  {
+    fem::RacewayBallLoad ball;
+    ball.ring                      = ring;
+    ball.angle                     = angle;
+    ball.force                     = 1.0;
+    ball.semi_axis_circumferential = footprint.semi_axis_circumferential;
+    ball.semi_axis_transverse      = footprint.semi_axis_transverse;
+    return ball;
+  }
+
   RacewayOperators raceway_operators(const CraigBampton &basis, const fem::ElasticModel &model,
                                      const fem::RingGeometry &ring, const unsigned int n_angles,
-                                     const double semi_axis_circumferential, const double semi_axis_transverse)
+                                     const std::vector<BallFootprint> &footprints)
   {
+    check_footprints(footprints);
     RacewayOperators result;
-    result.semi_axis_circumferential = semi_axis_circumferential;
-    result.semi_axis_transverse      = semi_axis_transverse;
+    result.footprints = footprints;
     if (n_angles == 0)
       return result;
     // One point map per ball, located exactly as project_load() locates a
@@ -224,22 +282,19 @@ namespace fretsim::reduction
     std::vector<fem::PatchForces>     patches;
     std::vector<fem::SurfacePointMap> maps;
     for (unsigned int k = 0; k < n_angles; ++k)
-      {
-        fem::RacewayBallLoad ball;
-        ball.ring                      = ring;
-        ball.angle                     = 2.0 * M_PI * k / n_angles;
-        ball.contact_angle             = result.contact_angle;
-        ball.force                     = 1.0;
-        ball.semi_axis_circumferential = semi_axis_circumferential;
-        ball.semi_axis_transverse      = semi_axis_transverse;
-        patches.push_back(fem::raceway_patch_forces(ball));
-        maps.emplace_back(model, patches.back().points, fem::BoundaryId::raceway);
-        result.angles.push_back(ball.angle);
-      }
+      result.angles.push_back(2.0 * M_PI * k / n_angles);
+    for (const BallFootprint &footprint : footprints)
+      for (const double angle : result.angles)
+        {
+          fem::RacewayBallLoad ball = unit_ball(ring, angle, footprint);
+          ball.contact_angle        = result.contact_angle;
+          patches.push_back(fem::raceway_patch_forces(ball));
+          maps.emplace_back(model, patches.back().points, fem::BoundaryId::raceway);
+        }
     // f_kᵀ t_j = Σ_p F_p · (H_p t_j): the load vector is Hᵀ F (surface_point_map.h).
-    result.approach = assemble_operator(basis, n_angles, 1, [&](const fem::DisplacementField &u) {
-      std::vector<double> work(n_angles, 0.0);
-      for (unsigned int k = 0; k < n_angles; ++k)
+    result.approach = assemble_operator(basis, patches.size(), 1, [&](const fem::DisplacementField &u) {
+      std::vector<double> work(patches.size(), 0.0);
+      for (std::size_t k = 0; k < patches.size(); ++k)
         {
           const std::vector<fem::Vector3> at_points = maps[k].interpolate(u);
           for (std::size_t p = 0; p < at_points.size(); ++p)
@@ -309,13 +364,17 @@ namespace fretsim::reduction
           write_array(file, "/operators/sample_points/displacement",
                       {p.displacement.empty() ? 0 : n_points, 3, p.displacement.empty() ? 0 : n}, p.displacement);
 
-          const RacewayOperators &r        = model.raceway;
-          const hsize_t           n_angles = r.angles.size();
+          const RacewayOperators &r          = model.raceway;
+          const hsize_t           n_angles   = r.angles.size();
+          const hsize_t           footprints = r.footprints.size();
           write_array(file, "/operators/raceway/angles", {n_angles}, r.angles);
-          write_array(file, "/operators/raceway/approach", {n_angles, n_angles > 0 ? n : 0}, r.approach);
+          write_array(file, "/operators/raceway/approach", {footprints, n_angles, n_angles > 0 ? n : 0}, r.approach);
+          std::vector<double> footprint_table;
+          for (const BallFootprint &f : r.footprints)
+            footprint_table.insert(footprint_table.end(),
+                                   {f.semi_axis_circumferential, f.semi_axis_transverse, f.load});
+          write_array(file, "/operators/raceway/footprints", {footprints, 3}, footprint_table);
           Id raceway_group(H5Gopen2(file, "/operators/raceway", H5P_DEFAULT), H5Gclose);
-          write_number_attribute(raceway_group, "semi_axis_circumferential_m", r.semi_axis_circumferential);
-          write_number_attribute(raceway_group, "semi_axis_transverse_m", r.semi_axis_transverse);
           write_number_attribute(raceway_group, "contact_angle_rad", r.contact_angle);
           if (const ResidualFlexibility &residual = model.residual; !residual.empty())
             {
@@ -326,7 +385,7 @@ namespace fretsim::reduction
                   write_array(file, std::string("/residual_flexibility/") + names[k], {rows, cells},
                               residual.traction[k]);
               if (!residual.ball.empty()) // a housing has no raceway
-                write_array(file, "/residual_flexibility/ball", {cells}, residual.ball);
+                write_array(file, "/residual_flexibility/ball", {residual.ball.size() / cells, cells}, residual.ball);
               Id group(H5Gopen2(file, "/residual_flexibility", H5P_DEFAULT), H5Gclose);
               write_number_attribute(group, "column_angle_rad", residual.column_angle);
               write_number_attribute(group, "solves", residual.solves);
@@ -422,12 +481,22 @@ namespace fretsim::reduction
             RacewayOperators &r = model.raceway;
             r.angles            = read_array(file, "/operators/raceway/angles");
             r.approach          = read_array(file, "/operators/raceway/approach");
+            const std::vector<double> table = read_array(file, "/operators/raceway/footprints");
+            for (std::size_t f = 0; f + 2 < table.size(); f += 3)
+              r.footprints.push_back({table[f], table[f + 1], table[f + 2]});
             Id raceway_group(H5Gopen2(file, "/operators/raceway", H5P_DEFAULT), H5Gclose);
-            r.semi_axis_circumferential = read_number_attribute(raceway_group, "semi_axis_circumferential_m");
-            r.semi_axis_transverse      = read_number_attribute(raceway_group, "semi_axis_transverse_m");
-            r.contact_angle             = read_number_attribute(raceway_group, "contact_angle_rad");
-            if (r.approach.size() != r.angles.size() * n)
-              throw std::runtime_error("raceway operator does not match the angle and coordinate counts");
+            r.contact_angle = read_number_attribute(raceway_group, "contact_angle_rad");
+            if (r.approach.size() != r.footprints.size() * r.angles.size() * n || table.size() % 3 != 0)
+              throw std::runtime_error("raceway operator does not match the footprint, angle and coordinate counts");
+            try
+              {
+                if (!r.angles.empty())
+                  check_footprints(r.footprints);
+              }
+            catch (const std::invalid_argument &error)
+              {
+                throw std::runtime_error(std::string("raceway footprints: ") + error.what());
+              }
           }
 
         if (H5Lexists(file, "/residual_flexibility", H5P_DEFAULT) > 0)
@@ -448,7 +517,9 @@ namespace fretsim::reduction
             residual.column_angle = read_number_attribute(group, "column_angle_rad");
             residual.solves       = static_cast<unsigned int>(read_number_attribute(group, "solves"));
             residual.seconds      = read_number_attribute(group, "seconds");
-            if ((!residual.ball.empty() && residual.ball.size() != g.grid.size()) || residual.traction[0].empty())
+            if ((!residual.ball.empty() &&
+                 residual.ball.size() != std::max<std::size_t>(1, model.raceway.footprints.size()) * g.grid.size()) ||
+                residual.traction[0].empty())
               throw std::runtime_error("residual flexibility does not match the interface grid");
           }
 

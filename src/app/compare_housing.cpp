@@ -159,7 +159,7 @@ namespace fretsim::app
         result.reduced_residual_error = std::numeric_limits<double>::quiet_NaN();
         if (!d.model.residual.empty())
           {
-            std::vector<double> with_residual = residual_u_r(d.model.residual, grid, tractions, {}, {});
+            std::vector<double> with_residual = residual_u_r(d.model.residual, {}, grid, tractions, {}, {});
             for (std::size_t c = 0; c < cells; ++c)
               with_residual[c] += reduced[c];
             result.reduced_residual_error = error(with_residual, full);

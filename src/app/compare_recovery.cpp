@@ -50,10 +50,10 @@ namespace fretsim::app::compare
       r.raceway_stress = models::apply(t.raceway_stress, t.n, r.q);
       r.approach.clear();
       std::vector<double> row(t.n);
-      for (const double angle : instant.ball_angles)
+      for (std::size_t b = 0; b < instant.ball_angles.size(); ++b)
         {
           std::fill(row.begin(), row.end(), 0.0);
-          add_ball_row(t, angle, 1.0, row);
+          add_ball_row(t, instant.ball_angles[b], instant.ball_loads[b], 1.0, row);
           double a = 0.0;
           for (std::size_t j = 0; j < t.n; ++j)
             a += row[j] * r.q[j];
@@ -69,7 +69,7 @@ namespace fretsim::app::compare
       const auto start = Clock::now();
       std::vector<double> g(t.n, 0.0);
       for (std::size_t b = 0; b < instant.ball_angles.size(); ++b)
-        add_ball_row(t, instant.ball_angles[b], instant.ball_loads[b], g);
+        add_ball_row(t, instant.ball_angles[b], instant.ball_loads[b], instant.ball_loads[b], g);
       const auto       &tr      = instant.tractions;
       const std::size_t n_cells = tr.pressure.size();
       for (std::size_t c = 0; c < n_cells; ++c)
@@ -244,13 +244,17 @@ namespace fretsim::app::compare
     /// The zone around a ball where the full FE carries the footprint's local
     /// stress (smeared over its cells) and the reduced model, by design, does
     /// not (Hertz does, ring_coupling.h): two FE cells, or three transverse
-    /// footprint semi-axes if that is wider [rad].
+    /// semi-axes of the largest ball's footprint if that is wider [rad].
     double local_stress_zone(const Plan &plan)
     {
       const auto  &body        = plan.body;
       const double race_radius = body.ring.has_groove() ? body.ring.groove_bottom_radius : body.ring.bore_radius;
+      double       largest     = 0.0;
+      for (const auto &instant : plan.instants)
+        for (const double load : instant.ball_loads)
+          largest = std::max(largest, load);
       return std::max(2.0 * 2.0 * M_PI / (body.divisions.circumferential << body.refinements),
-                      3.0 * plan.model.raceway.semi_axis_transverse / race_radius);
+                      3.0 * plan.model.raceway.footprint_at(largest).semi_axis_transverse / race_radius);
     }
 
     /// Every truncation of the study, σ the static shift.
@@ -352,7 +356,8 @@ namespace fretsim::app::compare
         if (whole_view != views.end())
           {
             whole    = &*whole_view;
-            residual = models::residual_flexibility(solver, map, *whole, grid, ball_load(), 3);
+            residual = models::residual_flexibility(solver, map, *whole, grid, plan.body.ring,
+                                                    plan.model.raceway.footprints, 3);
           }
       }
 
@@ -411,22 +416,21 @@ namespace fretsim::app::compare
       RingResults take_results() { return std::move(found); }
 
     private:
-      /// A ball on the model's raceway, as the run placed it (Hertz patch of the model's footprint).
-      fem::RacewayBallLoad raceway_ball(double angle, double force) const
+      /// A ball of `load` on the model's raceway, as the run placed it: the
+      /// Hertz patch of the model's footprint at that load (or its fixed
+      /// one), carrying `force` (the load, or 1 N for a unit patch).
+      fem::RacewayBallLoad raceway_ball(double angle, double load, double force) const
       {
-        fem::RacewayBallLoad ball;
-        ball.ring                      = plan.body.ring;
-        ball.angle                     = std::fmod(angle, 2.0 * M_PI);
-        ball.contact_angle             = plan.model.raceway.contact_angle;
-        ball.semi_axis_circumferential = plan.model.raceway.semi_axis_circumferential;
-        ball.semi_axis_transverse      = plan.model.raceway.semi_axis_transverse;
-        ball.force                     = force;
+        const reduction::BallFootprint footprint = plan.model.raceway.footprint_at(load);
+        fem::RacewayBallLoad ball = reduction::unit_ball(plan.body.ring, std::fmod(angle, 2.0 * M_PI), footprint);
+        ball.contact_angle        = plan.model.raceway.contact_angle;
+        ball.force                = force;
         return ball;
       }
 
       BallLoad ball_load() const
       {
-        return [this](double angle, double force) { return raceway_ball(angle, force); };
+        return [this](double angle, double force) { return raceway_ball(angle, force, force); };
       }
 
       /// An instant's loads on the full FE ring: its tractions on the grid and
@@ -437,16 +441,16 @@ namespace fretsim::app::compare
         load.grid_tractions.push_back({&map, &part.tractions});
         for (std::size_t b = 0; b < part.ball_angles.size(); ++b)
           if (part.ball_loads[b] > 0.0)
-            load.ball_loads.push_back(raceway_ball(part.ball_angles[b], part.ball_loads[b]));
+            load.ball_loads.push_back(raceway_ball(part.ball_angles[b], part.ball_loads[b], part.ball_loads[b]));
         return load;
       }
 
       BallPatches ball_patches(const Instant &instant) const
       {
         BallPatches balls;
-        for (const double angle : instant.ball_angles)
+        for (std::size_t b = 0; b < instant.ball_angles.size(); ++b)
           {
-            const fem::RacewayBallLoad ball = raceway_ball(angle, 1.0);
+            const fem::RacewayBallLoad ball = raceway_ball(instant.ball_angles[b], instant.ball_loads[b], 1.0);
             balls.unit_balls.push_back(ball);
             balls.patches.push_back(fem::raceway_patch_forces(ball));
             balls.maps.push_back(
@@ -536,7 +540,7 @@ namespace fretsim::app::compare
           {
             std::vector<double> g(views[v].n, 0.0);
             for (std::size_t b = 0; b < instant.ball_angles.size(); ++b)
-              add_ball_row(views[v], instant.ball_angles[b], instant.ball_loads[b], g);
+              add_ball_row(views[v], instant.ball_angles[b], instant.ball_loads[b], instant.ball_loads[b], g);
             try
               {
                 solutions.reduced[v] = std::make_unique<fem::WinklerGridSolution>(reduced_winklers[v].solve(g).grid);
@@ -650,7 +654,8 @@ namespace fretsim::app::compare
       double error_with_residual(const Recovered &r, const Instant &part, const FullSolution &f) const
       {
         std::vector<double> u_r =
-          models::residual_u_r(residual, grid, part.tractions, part.ball_angles, part.ball_loads);
+          models::residual_u_r(residual, plan.model.raceway.footprint_loads(), grid, part.tractions, part.ball_angles,
+                               part.ball_loads);
         for (std::size_t c = 0; c < u_r.size(); ++c)
           u_r[c] += r.displacement[3 * c];
         return relative_max_error(u_r, 0, 1, f.displacement[0]);

@@ -76,7 +76,7 @@ namespace fretsim::coupling
     // pressure moves the raceway under the balls (the table empty without it).
     contact::SurfaceGrid residual_grid;
     double               residual_radius, residual_column_angle;
-    std::vector<double>  residual_ball;
+    std::vector<double>  residual_ball, footprint_loads;
     // The last two accepted pressures and their times, for the extrapolation.
     contact::Field       pressure_now, pressure_before, pressure_guess;
     double               time_now = 0.0, time_before = 0.0;
@@ -97,6 +97,7 @@ namespace fretsim::coupling
       , residual_radius(ring.interface_radius)
       , residual_column_angle(ring.residual_column_angle)
       , residual_ball(s.pressure_residual_at_balls ? ring.residual_ball : std::vector<double>())
+      , footprint_loads(ring.raceway_footprint_loads)
       , pressure_now(ring.interface_grid.size(), 0.0)
       , pressure_before(pressure_now)
     {
@@ -124,7 +125,7 @@ namespace fretsim::coupling
           double largest = 0.0;
           for (std::size_t row = 0; row < ring.interface_displacement.size() / n; ++row)
             largest = std::max(largest, std::abs(ring.interface_displacement[row * n + j]));
-          for (std::size_t k = 0; k < ring.raceway_angles; ++k)
+          for (std::size_t k = 0; k < ring.raceway_approach.size() / n; ++k)
             largest = std::max(largest, std::abs(ring.raceway_approach[k * n + j]));
           absolute_tolerance[j] = largest > 0.0 ? s.integrator.displacement_tolerance / largest : 0.0;
           if (largest > 0.0)
@@ -227,8 +228,9 @@ namespace fretsim::coupling
     {
       if (residual_ball.empty())
         return {};
-      auto inward = pressure_residual_at_balls(residual_grid, residual_radius, residual_ball, residual_column_angle,
-                                               angles, pressure);
+      // The balls' footprints of their last loads.
+      auto inward = pressure_residual_at_balls(residual_grid, residual_radius, residual_ball, footprint_loads,
+                                               residual_column_angle, angles, balls.loads(), pressure);
       balls.set_raceway_residual(inward);
       return inward;
     }

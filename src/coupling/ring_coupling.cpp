@@ -28,11 +28,18 @@ namespace fretsim::coupling
       fail("the interface operator must have 3 n values per grid cell");
     if (!(interface_radius > 0.0))
       fail("the interface radius must be positive");
-    if (raceway_angles < 4 || raceway_approach.size() != raceway_angles * n)
-      fail("the raceway ball operator must have n values at each of at least 4 angles");
+    if (raceway_angles < 4 || raceway_approach.size() != raceway_footprints() * raceway_angles * n)
+      fail("the raceway ball operator must have n values at each of at least 4 angles per footprint");
+    if (!std::is_sorted(raceway_footprint_loads.begin(), raceway_footprint_loads.end()) ||
+        std::adjacent_find(raceway_footprint_loads.begin(), raceway_footprint_loads.end()) !=
+          raceway_footprint_loads.end() ||
+        (!raceway_footprint_loads.empty() && !(raceway_footprint_loads.front() > 0.0)))
+      fail("the raceway footprints' ball loads must be positive and increasing");
     if ((!residual_pressure.empty() && residual_pressure.size() != interface_grid.size() * interface_grid.ny) ||
-        (!residual_ball.empty() && (residual_pressure.empty() || residual_ball.size() != interface_grid.size())))
-      fail("the residual flexibility must have [rows][cells] pressure entries and none or [cells] ball entries");
+        (!residual_ball.empty() &&
+         (residual_pressure.empty() || residual_ball.size() != raceway_footprints() * interface_grid.size())))
+      fail("the residual flexibility must have [rows][cells] pressure entries and none or [footprint][cells] ball "
+           "entries");
   }
 
   namespace
@@ -41,43 +48,56 @@ namespace fretsim::coupling
     /// between the grid's columns, for each cell of the columns i where
     /// wanted(b, i) (the others contribute nothing): the one placement both
     /// directions of the reciprocal pair use, so that they are each other's
-    /// transposes exactly.
+    /// transposes exactly. Ball b's table is its footprint's, blended at its
+    /// load (footprint_blend) where it is read: most columns are not visited.
     template <class Wanted, class Visit>
     void for_each_shifted_ball_cell(const contact::SurfaceGrid &grid, double radius, const std::vector<double> &table,
-                                    double column_angle, const std::vector<double> &angles, Wanted wanted,
-                                    Visit visit)
+                                    const std::vector<double> &footprint_loads, double column_angle,
+                                    const std::vector<double> &angles, const std::vector<double> &loads,
+                                    Wanted wanted, Visit visit)
     {
-      const int    nx = grid.nx, ny = grid.ny;
-      const double angle_step = grid.hx / radius;
+      const int         nx = grid.nx, ny = grid.ny;
+      const double      angle_step = grid.hx / radius;
+      const std::size_t cells      = grid.size();
       for (std::size_t b = 0; b < angles.size(); ++b)
         {
+          const FootprintBlend blend = footprint_blend(footprint_loads, loads[b]);
+          const auto           at    = [&](std::size_t cell) {
+            double value = 0.0;
+            for (std::size_t m = 0; m < blend.count; ++m)
+              value += blend.weights[m] * table[(blend.first + m) * cells + cell];
+            return value;
+          };
           const double shift = std::remainder(angles[b] - column_angle, 2.0 * M_PI) / angle_step;
           for (int i = 0; i < nx; ++i)
             {
               if (!wanted(b, i))
                 continue;
-              const double at = i - shift, lower = std::floor(at), fraction = at - lower;
+              const double at_column = i - shift, lower = std::floor(at_column), fraction = at_column - lower;
               const int    k0 = ((static_cast<int>(lower) % nx) + nx) % nx, k1 = (k0 + 1) % nx;
               for (int j = 0; j < ny; ++j)
-                visit(b, grid.index(i, j),
-                      (1.0 - fraction) * table[grid.index(k0, j)] + fraction * table[grid.index(k1, j)]);
+                visit(b, grid.index(i, j), (1.0 - fraction) * at(grid.index(k0, j)) + fraction * at(grid.index(k1, j)));
             }
         }
     }
   } // namespace
 
   void add_ball_residual(const contact::SurfaceGrid &grid, double radius, const std::vector<double> &table,
-                         double column_angle, const std::vector<double> &angles, const std::vector<double> &loads,
+                         const std::vector<double> &footprint_loads, double column_angle,
+                         const std::vector<double> &angles, const std::vector<double> &loads,
                          std::vector<double> &field)
   {
     for_each_shifted_ball_cell(
-      grid, radius, table, column_angle, angles, [&](std::size_t b, int) { return loads[b] != 0.0; },
+      grid, radius, table, footprint_loads, column_angle, angles, loads,
+      [&](std::size_t b, int) { return loads[b] != 0.0; },
       [&](std::size_t b, std::size_t cell, double value) { field[cell] += loads[b] * value; });
   }
 
   std::vector<double> pressure_residual_at_balls(const contact::SurfaceGrid &grid, double radius,
-                                                 const std::vector<double> &table, double column_angle,
-                                                 const std::vector<double> &angles, const contact::Field &pressure)
+                                                 const std::vector<double> &table,
+                                                 const std::vector<double> &footprint_loads, double column_angle,
+                                                 const std::vector<double> &angles, const std::vector<double> &loads,
+                                                 const contact::Field &pressure)
   {
     // Most columns carry no pressure (the unloaded half, the gaps between
     // the balls): they are skipped.
@@ -88,7 +108,8 @@ namespace fretsim::coupling
     std::vector<double> inward(angles.size(), 0.0);
     const double        area = grid.cell_area();
     for_each_shifted_ball_cell(
-      grid, radius, table, column_angle, angles, [&](std::size_t, int i) { return loaded[i] != 0; },
+      grid, radius, table, footprint_loads, column_angle, angles, loads,
+      [&](std::size_t, int i) { return loaded[i] != 0; },
       [&](std::size_t b, std::size_t cell, double value) { inward[b] += value * pressure[cell] * area; });
     return inward;
   }
@@ -123,6 +144,7 @@ namespace fretsim::coupling
     joint.interface_radius            = ring.interface_radius;
     joint.interface_grid              = ring.interface_grid;
     joint.raceway_angles              = ring.raceway_angles;
+    joint.raceway_footprint_loads     = ring.raceway_footprint_loads;
     joint.residual_pressure           = ring.residual_pressure;
     if (joint.residual_pressure.empty())
       joint.residual_pressure = housing.residual_pressure;
@@ -157,8 +179,9 @@ namespace fretsim::coupling
         for (std::size_t j = 0; j < n_h; ++j)
           to[n_r + j] = -from[j];
       }
-    joint.raceway_approach.assign(ring.raceway_angles * n, 0.0);
-    for (std::size_t k = 0; k < ring.raceway_angles; ++k)
+    const std::size_t raceway_rows = ring.raceway_footprints() * ring.raceway_angles;
+    joint.raceway_approach.assign(raceway_rows * n, 0.0);
+    for (std::size_t k = 0; k < raceway_rows; ++k)
       std::copy_n(ring.raceway_approach.data() + k * n_r, n_r, joint.raceway_approach.data() + k * n);
     return joint;
   }
@@ -291,7 +314,7 @@ namespace fretsim::coupling
     contact::Field                   local_pressure, local_penetration, structural, structural_rate;
     /// The ring's residual flexibility: a ball's u_r per N at the column
     /// angle, and the balls' residual u_r at the loads last set [m].
-    std::vector<double> residual_ball;
+    std::vector<double> residual_ball, footprint_loads;
     double              residual_column_angle = 0.0;
     contact::Field      ball_residual;
 
@@ -340,6 +363,7 @@ namespace fretsim::coupling
       structural_rate.assign(cells, 0.0);
       ball_residual.assign(cells, 0.0);
       residual_ball         = ring.residual_ball;
+      footprint_loads       = ring.raceway_footprint_loads;
       residual_column_angle = ring.residual_column_angle;
     }
 
@@ -348,7 +372,8 @@ namespace fretsim::coupling
       if (residual_ball.empty())
         return; // ball_residual stays zero
       std::fill(ball_residual.begin(), ball_residual.end(), 0.0);
-      add_ball_residual(grid, radius, residual_ball, residual_column_angle, angles, loads, ball_residual);
+      add_ball_residual(grid, radius, residual_ball, footprint_loads, residual_column_angle, angles, loads,
+                        ball_residual);
     }
 
     double dot(const float *values, const double *x) const { return row_dot(values, x, n); }
@@ -753,8 +778,9 @@ namespace fretsim::coupling
   // ---------------------------------------------------------------------------
   struct BallContacts::Impl
   {
-    std::size_t         n, angles;
-    RowMatrix           approach; // [angle][n]
+    std::size_t         n, angles, footprints;
+    RowMatrix           approach; // [footprint × angles + angle][n]
+    std::vector<double> footprint_loads;
     unsigned int        balls;
     double              stiffness, damping, clearance;
     std::vector<double> loads, raceway_residual;
@@ -767,13 +793,16 @@ namespace fretsim::coupling
     ring.check();
     if (ball_count == 0 || !(stiffness > 0.0) || !(damping >= 0.0))
       throw std::invalid_argument("ball contacts: need balls, a positive stiffness and a damping >= 0");
-    impl->n         = ring.n;
-    impl->angles    = ring.raceway_angles;
-    impl->approach  = Eigen::Map<const RowMatrix>(ring.raceway_approach.data(), ring.raceway_angles, ring.n);
-    impl->balls     = ball_count;
-    impl->stiffness = stiffness;
-    impl->damping   = damping;
-    impl->clearance = radial_clearance;
+    impl->n               = ring.n;
+    impl->angles          = ring.raceway_angles;
+    impl->footprints      = ring.raceway_footprints();
+    impl->approach        = Eigen::Map<const RowMatrix>(ring.raceway_approach.data(),
+                                                        impl->footprints * ring.raceway_angles, ring.n);
+    impl->footprint_loads = ring.raceway_footprint_loads;
+    impl->balls           = ball_count;
+    impl->stiffness       = stiffness;
+    impl->damping         = damping;
+    impl->clearance       = radial_clearance;
     impl->loads.assign(ball_count, 0.0);
     impl->raceway_residual.assign(ball_count, 0.0);
   }
@@ -795,7 +824,10 @@ namespace fretsim::coupling
     const Eigen::Map<const VectorXd>   q(q_data, d.n), v(v_data, d.n);
     Eigen::Map<VectorXd>               force(out.force, d.n);
     const double                       spacing = 2.0 * M_PI / d.angles;
+    const std::size_t                  F       = d.footprints;
     VectorXd                           r(d.n), slope(d.n);
+    // Per footprint at the ball's angle: r·q, r·q̇ and (dr/dψ)·q.
+    VectorXd on_q(F), on_v(F), slope_q(F);
     for (unsigned int j = 0; j < d.balls; ++j)
       {
         double position = std::fmod(angles[j], 2.0 * M_PI);
@@ -804,20 +836,56 @@ namespace fretsim::coupling
         const double      scaled = position / spacing;
         const std::size_t k0     = static_cast<std::size_t>(scaled) % d.angles, k1 = (k0 + 1) % d.angles;
         const double      w      = scaled - std::floor(scaled);
-        r.noalias()     = (1.0 - w) * d.approach.row(k0).transpose() + w * d.approach.row(k1).transpose();
-        slope.noalias() = (d.approach.row(k1) - d.approach.row(k0)).transpose() / spacing;
+        for (std::size_t f = 0; f < F; ++f)
+          {
+            const auto   r0 = d.approach.row(f * d.angles + k0), r1 = d.approach.row(f * d.angles + k1);
+            const double a0 = r0.dot(q), a1 = r1.dot(q);
+            on_q[f]    = (1.0 - w) * a0 + w * a1;
+            on_v[f]    = (1.0 - w) * r0.dot(v) + w * r1.dot(v);
+            slope_q[f] = (a1 - a0) / spacing;
+          }
+        const auto blended = [](const FootprintBlend &b, const VectorXd &x) {
+          double sum = 0.0;
+          for (std::size_t m = 0; m < b.count; ++m)
+            sum += b.weights[m] * x[b.first + m];
+          return sum;
+        };
         const double c = std::cos(angles[j]), s = std::sin(angles[j]);
-        const double deflection = inner_displacement[0] * c + inner_displacement[1] * s - r.dot(q) - 0.5 * d.clearance +
-                                  d.raceway_residual[j];
+        const double deflection_rest = inner_displacement[0] * c + inner_displacement[1] * s - 0.5 * d.clearance +
+                                       d.raceway_residual[j];
         // The ball moves along a deformed raceway: its approach changes with ψ too.
-        const double rate = inner_velocity[0] * c + inner_velocity[1] * s +
-                            cage_speed * (-inner_displacement[0] * s + inner_displacement[1] * c) - r.dot(v) -
-                            cage_speed * slope.dot(q);
-        const BallLoad load = ball_load(d.stiffness, d.damping, deflection, rate);
-        impl->loads[j]      = load.load;
+        const double rate_rest = inner_velocity[0] * c + inner_velocity[1] * s +
+                                 cage_speed * (-inner_displacement[0] * s + inner_displacement[1] * c);
+        // The footprint follows the load and the load the approach under that
+        // footprint: a scalar fixed point from the last load, contracting
+        // strongly (the footprint moves the approach by a small fraction of
+        // the deflection); one pass with a single footprint.
+        FootprintBlend blend = footprint_blend(d.footprint_loads, d.loads[j]);
+        BallLoad       load;
+        for (int iteration = 0; iteration < 50; ++iteration)
+          {
+            load = ball_load(d.stiffness, d.damping, deflection_rest - blended(blend, on_q),
+                             rate_rest - blended(blend, on_v) - cage_speed * blended(blend, slope_q));
+            const FootprintBlend next = footprint_blend(d.footprint_loads, load.load);
+            if (F == 1 || (next.first == blend.first && std::abs(next.weights[0] - blend.weights[0]) <= 1e-12 &&
+                           std::abs(next.weights[1] - blend.weights[1]) <= 1e-12))
+              break;
+            blend = next;
+          }
+        const auto row = [&](std::size_t f, std::size_t k) { return d.approach.row(f * d.angles + k).transpose(); };
+        const auto add_rows = [&](std::size_t f, double factor) {
+          r.noalias() += factor * ((1.0 - w) * row(f, k0) + w * row(f, k1));
+          slope.noalias() += (factor / spacing) * (row(f, k1) - row(f, k0));
+        };
+        r.setZero();
+        slope.setZero();
+        for (std::size_t m = 0; m < blend.count; ++m)
+          add_rows(blend.first + m, blend.weights[m]);
+        impl->loads[j] = load.load;
         force.noalias() += load.load * r;
         if (out.by_position != nullptr)
           {
+            // The row's change with the load (through the footprint) is left out.
             Eigen::Map<RowMatrix> dq(out.by_position, d.n, d.n), dv(out.by_velocity, d.n, d.n);
             dq.noalias() -= load.by_deflection * r * r.transpose();
             dq.noalias() -= (load.by_deflection_rate * cage_speed) * r * slope.transpose();

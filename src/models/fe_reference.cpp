@@ -176,7 +176,7 @@ namespace fretsim::models
     template <typename Add>
     void add_ball(double psi, double q, const Vector &table, int components, std::size_t layers, Add add) const
     {
-      detail::add_ball_table(grid, ring.period, psi, q, table, components, layers, add);
+      detail::add_ball_tables(grid, ring.period, ring.ball_footprint_loads, psi, q, table, components, layers, add);
     }
 
     // ---- One increment.

@@ -163,9 +163,16 @@ namespace fretsim::models
             loads.emplace_back().point_forces.push_back(std::move(forces));
           }
     const std::size_t cell_loads = loads.size();
-    if (request.ball)
-      for (int phase = 0; phase < t.period; ++phase)
-        loads.emplace_back().ball_loads.push_back(request.ball(grid.x(phase) / grid.radius));
+    t.ball_footprint_loads = request.ball_footprint_loads;
+    if (request.balls) // footprint-major: [footprint][phase]
+      {
+        std::vector<std::vector<fem::RacewayBallLoad>> per_phase;
+        for (int phase = 0; phase < t.period; ++phase)
+          per_phase.push_back(request.balls(grid.x(phase) / grid.radius));
+        for (std::size_t f = 0; f < per_phase.front().size(); ++f)
+          for (int phase = 0; phase < t.period; ++phase)
+            loads.emplace_back().ball_loads.push_back(per_phase[static_cast<std::size_t>(phase)][f]);
+      }
     solver.solve_each(loads, [&](std::size_t i, const fem::DisplacementField &u) {
       if (i < cell_loads)
         record(u, t.displacement, t.stress);

@@ -2,9 +2,12 @@
 
 #include <fretsim/models/reduction.h>
 
+#include <fretsim/contact/material.h>
+#include <fretsim/coupling/bearing.h>
 #include <fretsim/fem/parallel_environment.h>
 
 #include <filesystem>
+#include <iomanip>
 #include <iostream>
 #include <tuple>
 
@@ -30,6 +33,61 @@ namespace fretsim::models
       source.file_parameter = file_parameter;
       return source;
     }
+
+    /// The ring's raceway footprints as reduction parameters: with
+    /// Model/Ball footprint = load following, the Hertz ellipses of a ball on
+    /// the outer raceway (Bearing/..., the ring's groove and material) at
+    /// Model/Ball footprints loads up to the one whose peak pressure reaches
+    /// ISO 76's static limit; fixed (or a ring without a groove, which the
+    /// scene refuses): none, the configuration's own.
+    std::vector<std::pair<std::string, std::string>> footprint_overrides(const app::SceneParameters &par,
+                                                                         const std::string &config)
+    {
+      if (par.get("Model/Ball footprint") == "fixed")
+        return {};
+      const RingHousingRequest body = read_ring_housing_request(read_ring_housing_parameters(config, {}));
+      if (!body.ring.has_groove())
+        return {};
+      coupling::BearingGeometry bearing;
+      bearing.ball_diameter           = par.get_double("Bearing/Ball diameter");
+      bearing.pitch_diameter          = 2.0 * body.ring.groove_bottom_radius - bearing.ball_diameter;
+      bearing.outer_groove_conformity = body.ring.groove_radius / bearing.ball_diameter;
+      bearing.inner_groove_conformity = par.get_double("Bearing/Inner groove conformity");
+      const fem::Material &ring       = body.materials.at(fem::MaterialId::ring);
+      const double         modulus =
+        contact::MaterialPair{{ring.youngs_modulus, ring.poisson_ratio},
+                              {par.get_double("Bearing/Young's modulus"), par.get_double("Bearing/Poisson ratio")}}
+          .contact_modulus();
+      coupling::OuterContactEllipse ellipse;
+      try
+        {
+          ellipse = coupling::outer_contact_ellipse(bearing, modulus);
+        }
+      catch (const std::invalid_argument &error)
+        {
+          par.reject("Bearing/Ball diameter", error.what());
+        }
+      const long count = par.get_integer("Model/Ball footprints");
+      if (count % 2 == 0)
+        par.reject("Model/Ball footprints", "expected an odd number (the rows are interpolated over pieces of three), "
+                                            "got " + std::to_string(count));
+      const auto loads =
+        ellipse.footprint_loads(coupling::static_limit_peak_pressure, static_cast<unsigned int>(count));
+      std::ostringstream load_list, a_list, b_list;
+      for (auto *list : {&load_list, &a_list, &b_list})
+        *list << std::setprecision(17);
+      for (std::size_t f = 0; f < loads.size(); ++f)
+        {
+          const double      scale     = std::cbrt(loads[f]);
+          const char *const separator = f == 0 ? "" : ", ";
+          load_list << separator << loads[f];
+          a_list << separator << scale * ellipse.semi_axis_rolling_per_newton_cube_root;
+          b_list << separator << scale * ellipse.semi_axis_transverse_per_newton_cube_root;
+        }
+      return {{"Reduction/Ball footprint loads", load_list.str()},
+              {"Reduction/Ball footprint circumferential semi-axis", a_list.str()},
+              {"Reduction/Ball footprint transverse semi-axis", b_list.str()}};
+    }
   } // namespace
 
   ModelSource ring_model_source(const app::SceneParameters &par)
@@ -48,6 +106,14 @@ namespace fretsim::models
           source.overrides.emplace_back(reduction, std::to_string(count));
           suffix += tag + std::to_string(count);
         }
+    source.footprint_overrides = footprint_overrides(par, source.config);
+    if (!source.footprint_overrides.empty())
+      {
+        source.overrides.insert(source.overrides.end(), source.footprint_overrides.begin(),
+                                source.footprint_overrides.end());
+        source.footprint_tag = "-hertz";
+        suffix += source.footprint_tag;
+      }
     if (!suffix.empty())
       { // model.h5 -> model-ncc40.h5, results/ring-model.h5 -> results/ring-ncc40-model.h5
         const fs::path file = source.file;
@@ -79,13 +145,15 @@ namespace fretsim::models
                                        "at least 3 around), got '" + mesh + "'");
     RingStressSource source;
     source.config                    = ring.config;
+    source.footprint_overrides       = ring.footprint_overrides;
     source.divisions.circumferential = static_cast<unsigned int>(counts[0]);
     source.divisions.radial_ring     = static_cast<unsigned int>(counts[1]);
     source.divisions.axial           = static_cast<unsigned int>(counts[2]);
     source.divisions.axial_land      = static_cast<unsigned int>(counts[3]);
     source.divisions.radial_grading  = par.get_double("Stresses/Ring mesh radial grading");
     source.depths                    = depths;
-    source.file = (fs::path(ring.file).parent_path() / (fs::path(ring.config).stem().string() + "-stress-tables.h5"))
+    source.file = (fs::path(ring.file).parent_path() /
+                   (fs::path(ring.config).stem().string() + ring.footprint_tag + "-stress-tables.h5"))
                     .string();
     source.expected_hash = ring_stress_hash(source);
     return source;

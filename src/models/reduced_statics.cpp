@@ -1,5 +1,6 @@
 #include <fretsim/models/reduced_statics.h>
 
+#include <fretsim/coupling/bearing.h>
 #include <fretsim/coupling/local_compliance.h>
 #include <fretsim/coupling/ring_coupling.h>
 
@@ -75,6 +76,7 @@ namespace fretsim::models
     t.raceway_stress = restrict_columns(race, n_full, columns);
     t.approach       = restrict_columns(model.raceway.approach, n_full, columns);
     t.n_angles       = model.raceway.angles.size();
+    t.footprint_loads = model.raceway.footprint_loads();
     t.mass_rigid.resize(t.n * rigid_modes);
     t.rigid_factor.resize(rigid_modes * rigid_modes);
     for (std::size_t a = 0; a < t.n; ++a)
@@ -153,7 +155,8 @@ namespace fretsim::models
     return y;
   }
 
-  void add_ball_row(const Truncation &t, double angle, double factor, std::vector<double> &row)
+  void add_footprint_row(const Truncation &t, std::size_t footprint, double angle, double factor,
+                         std::vector<double> &row)
   {
     const double spacing  = 2.0 * M_PI / static_cast<double>(t.n_angles);
     double       position = std::fmod(angle, 2.0 * M_PI);
@@ -162,8 +165,16 @@ namespace fretsim::models
     const double      scaled = position / spacing;
     const std::size_t k0     = static_cast<std::size_t>(scaled) % t.n_angles, k1 = (k0 + 1) % t.n_angles;
     const double      w      = scaled - std::floor(scaled);
+    const double     *table  = t.approach.data() + footprint * t.n_angles * t.n;
     for (std::size_t j = 0; j < t.n; ++j)
-      row[j] += factor * ((1.0 - w) * t.approach[k0 * t.n + j] + w * t.approach[k1 * t.n + j]);
+      row[j] += factor * ((1.0 - w) * table[k0 * t.n + j] + w * table[k1 * t.n + j]);
+  }
+
+  void add_ball_row(const Truncation &t, double angle, double load, double factor, std::vector<double> &row)
+  {
+    const coupling::FootprintBlend blend = coupling::footprint_blend(t.footprint_loads, load);
+    for (std::size_t m = 0; m < blend.count; ++m)
+      add_footprint_row(t, blend.first + m, angle, factor * blend.weights[m], row);
   }
 
 
@@ -191,7 +202,8 @@ namespace fretsim::models
 
   reduction::ResidualFlexibility residual_flexibility(fem::ShiftedStaticSolver &solver, const fem::SurfaceGridMap &map,
                                                       const Truncation &whole, const fem::CylinderGrid &grid,
-                                                      const std::function<fem::RacewayBallLoad(double, double)> &ball,
+                                                      const fem::RingGeometry &ring,
+                                                      const std::vector<reduction::BallFootprint> &footprints,
                                                       int components, bool housing_bore)
   {
     const auto                     start = std::chrono::steady_clock::now();
@@ -231,13 +243,14 @@ namespace fretsim::models
           generalised.push_back(std::move(g));
           columns.push_back(&residual.traction[k]);
         }
-    if (ball)
+    std::vector<std::vector<double>> ball_columns(footprints.size()); // one table per footprint, in order
+    for (std::size_t f = 0; f < footprints.size(); ++f)
       {
-        loads.emplace_back().ball_loads.push_back(ball(residual.column_angle, 1.0));
+        loads.emplace_back().ball_loads.push_back(reduction::unit_ball(ring, residual.column_angle, footprints[f]));
         std::vector<double> g(whole.n, 0.0);
-        add_ball_row(whole, residual.column_angle, 1.0, g);
+        add_footprint_row(whole, f, residual.column_angle, 1.0, g);
         generalised.push_back(std::move(g));
-        columns.push_back(&residual.ball);
+        columns.push_back(&ball_columns[f]);
       }
     // u_r of the full FE solution minus the reduced model's, per cell.
     solver.solve_each(loads, [&](std::size_t i, const fem::DisplacementField &u) {
@@ -250,11 +263,14 @@ namespace fretsim::models
       columns[i]->insert(columns[i]->end(), u_r.begin(), u_r.end());
       ++residual.solves;
     });
+    for (const auto &column : ball_columns)
+      residual.ball.insert(residual.ball.end(), column.begin(), column.end());
     residual.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return residual;
   }
 
-  std::vector<double> residual_u_r(const reduction::ResidualFlexibility &residual, const fem::CylinderGrid &grid,
+  std::vector<double> residual_u_r(const reduction::ResidualFlexibility &residual,
+                                   const std::vector<double> &footprint_loads, const fem::CylinderGrid &grid,
                                    const fem::GridTractions &tractions, const std::vector<double> &ball_angles,
                                    const std::vector<double> &ball_loads)
   {
@@ -281,7 +297,7 @@ namespace fretsim::models
             }
     if (!residual.ball.empty())
       coupling::add_ball_residual({nx, ny, grid.hx, grid.hy, grid.x_min, grid.y_min}, grid.radius, residual.ball,
-                                  residual.column_angle, ball_angles, ball_loads, u);
+                                  footprint_loads, residual.column_angle, ball_angles, ball_loads, u);
     return u;
   }
 
@@ -310,9 +326,9 @@ namespace fretsim::models
     // layer (the table shifted to each ball, linear between columns).
     std::vector<double> g(n, 0.0), ball_residual(cells, 0.0);
     for (std::size_t b = 0; b < ball_angles.size(); ++b)
-      add_ball_row(whole, ball_angles[b], ball_loads[b], g);
-    coupling::add_ball_residual(surface, grid.radius, residual.ball, residual.column_angle, ball_angles, ball_loads,
-                                ball_residual);
+      add_ball_row(whole, ball_angles[b], ball_loads[b], ball_loads[b], g);
+    coupling::add_ball_residual(surface, grid.radius, residual.ball, whole.footprint_loads, residual.column_angle,
+                                ball_angles, ball_loads, ball_residual);
     using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
     RowMatrix radial(cells, n); // the u_r rows
     for (std::size_t c = 0; c < cells; ++c)

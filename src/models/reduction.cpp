@@ -43,7 +43,7 @@ namespace fretsim::models
       unsigned int                  grid_cells_circumferential = 0, grid_cells_axial = 0;
       unsigned int                  points_per_line            = 0;
       unsigned int                  raceway_ball_positions     = 0;
-      double                        footprint_circumferential = 0.0, footprint_transverse = 0.0; ///< [m]
+      std::vector<reduction::BallFootprint> footprints; ///< one fixed, or Hertz ellipses of increasing loads
       bool                          compare_with_full          = true;
       std::vector<unsigned int>     study_fixed_interface, study_interface;
       /// Zero-displacement supports of the body (a housing is held at its outside).
@@ -112,17 +112,41 @@ namespace fretsim::models
       return text.str();
     }
 
-    /// A 1 N ball at θ = `angle` with the configured footprint, contact angle 0:
-    /// the load whose projection is one row of the raceway operator.
-    fem::RacewayBallLoad unit_ball(const ReduceRequest &r, const double angle)
+    /// The raceway footprints: Reduction/Ball footprint loads with their
+    /// ellipses' semi-axes, or one fixed footprint (no loads).
+    std::vector<reduction::BallFootprint> read_footprints(const SceneParameters &p)
     {
-      fem::RacewayBallLoad ball;
-      ball.ring                      = r.body.ring;
-      ball.angle                     = angle;
-      ball.force                     = 1.0;
-      ball.semi_axis_circumferential = r.footprint_circumferential;
-      ball.semi_axis_transverse      = r.footprint_transverse;
-      return ball;
+      const std::string         a_path = "Reduction/Ball footprint circumferential semi-axis",
+                                b_path = "Reduction/Ball footprint transverse semi-axis",
+                                q_path = "Reduction/Ball footprint loads";
+      const std::vector<double> a = p.get_double_list(a_path), b = p.get_double_list(b_path),
+                                loads = p.get_double_list(q_path);
+      const std::size_t count = std::max<std::size_t>(1, loads.size());
+      if (a.size() != count || b.size() != count)
+        p.reject(loads.empty() ? a_path : q_path,
+                 "expected one semi-axis of each kind per footprint load (one of each and no load: a fixed "
+                 "footprint), got " + std::to_string(a.size()) + " and " + std::to_string(b.size()) + " semi-axes for " +
+                   std::to_string(loads.size()) + " loads");
+      std::vector<reduction::BallFootprint> footprints;
+      for (std::size_t f = 0; f < count; ++f)
+        footprints.push_back({a[f], b[f], loads.empty() ? 0.0 : loads[f]});
+      try
+        {
+          reduction::check_footprints(footprints);
+        }
+      catch (const std::invalid_argument &error)
+        {
+          p.reject(q_path, error.what());
+        }
+      return footprints;
+    }
+
+    /// The patch of a ball of `load` [N] among the request's footprints.
+    reduction::BallFootprint footprint_at(const ReduceRequest &r, double load)
+    {
+      reduction::RacewayOperators table;
+      table.footprints = r.footprints;
+      return table.footprint_at(load);
     }
 
     ReduceRequest read_request(const SceneParameters &p)
@@ -145,8 +169,7 @@ namespace fretsim::models
       r.points_per_line            = static_cast<unsigned int>(p.get_integer("Reduction/Sample points per line"));
       r.compare_with_full          = p.get_bool("Reduction/Compare with full FE");
       r.raceway_ball_positions     = static_cast<unsigned int>(p.get_integer("Reduction/Raceway ball positions"));
-      r.footprint_circumferential  = p.get_double("Reduction/Ball footprint circumferential semi-axis");
-      r.footprint_transverse       = p.get_double("Reduction/Ball footprint transverse semi-axis");
+      r.footprints                 = read_footprints(p);
       r.study_fixed_interface      = counts(p, "Reduction/Study fixed-interface modes");
       r.study_interface            = counts(p, "Reduction/Study characteristic constraint modes");
       if (r.settings.n_fixed_interface_modes == 0 && r.settings.n_characteristic_constraint_modes > 0 &&
@@ -178,7 +201,7 @@ namespace fretsim::models
                                                          "balls go all round; set it to 0 for none");
           try
             {
-              fem::raceway_patch_forces(unit_ball(r, 0.0));
+              fem::raceway_patch_forces(reduction::unit_ball(r.body.ring, 0.0, r.footprints.back())); // the widest
             }
           catch (const std::invalid_argument &error)
             {
@@ -361,14 +384,15 @@ namespace fretsim::models
       full.free_frequencies_hz = modes.frequencies_hz;
       full.modal_seconds       = modes.seconds;
       // Two balls pressing outwards at θ = 90° and 270° (2 kN each, with the
-      // footprint of the raceway operator; the default is the ellipse of a
-      // 6208 ball at that load): self-equilibrated, so the free ring needs no
-      // support. A housing has no raceway.
+      // raceway operator's footprint of that load; the fixed default is near
+      // the ellipse of a 6208 ball at 2 kN): self-equilibrated, so the free
+      // ring needs no support. A housing has no raceway.
       if (request.body.bodies == "ring")
         for (const double angle : {0.5 * M_PI, 1.5 * M_PI})
           {
-            fem::RacewayBallLoad ball = unit_ball(request, angle);
-            ball.force                = 2000.0;
+            constexpr double     force = 2000.0;
+            fem::RacewayBallLoad ball  = reduction::unit_ball(request.body.ring, angle, footprint_at(request, force));
+            ball.force                 = force;
             full.balls.ball_loads.push_back(ball);
           }
       if (grid.nx > 0)
@@ -426,6 +450,21 @@ namespace fretsim::models
     }
   } // namespace
 
+  namespace
+  {
+    ParameterSpec real_list(ParameterSpec spec)
+    {
+      spec.kind = ParameterSpec::Kind::real_list;
+      return spec;
+    }
+
+    ParameterSpec increasing_real_list(ParameterSpec spec)
+    {
+      spec.increasing = true;
+      return real_list(spec);
+    }
+  } // namespace
+
   std::vector<ParameterSpec> reduce_parameter_specs()
   {
     using Spec = ParameterSpec;
@@ -479,14 +518,22 @@ namespace fretsim::models
                                 "co-simulation interpolates linearly between them. Needs the full parametric ring; "
                                 "0: none [-].",
                                 0, 100000),
-            Spec::real_range("Reduction/Ball footprint circumferential semi-axis", "0.3e-3",
-                             "Semi-axis a of the Hertz ellipse of the unit ball loads along the circumference (that "
-                             "of a 6208 ball at 2 kN) [m].",
-                             0.0, 0.01, true),
-            Spec::real_range("Reduction/Ball footprint transverse semi-axis", "1.3e-3",
-                             "Semi-axis b of that ellipse along the groove arc, or axially on a plain bore; the "
-                             "ellipse must stay on the groove arc [m].",
-                             0.0, 0.01, true),
+            real_list(Spec::real_range("Reduction/Ball footprint circumferential semi-axis", "0.3e-3",
+                                            "Semi-axis a along the circumference of the Hertz ellipse of the unit "
+                                            "ball loads, one per Ball footprint load; with no load one fixed "
+                                            "footprint (near that of a 6208 ball at 2 kN) [m].",
+                                            0.0, 0.01, true)),
+            real_list(Spec::real_range("Reduction/Ball footprint transverse semi-axis", "1.3e-3",
+                                            "Semi-axis b of those ellipses along the groove arc, or axially on a plain "
+                                            "bore; each must stay on the groove arc [m].",
+                                            0.0, 0.01, true)),
+            increasing_real_list(Spec::real_range("Reduction/Ball footprint loads", "",
+                                             "Ball loads whose Hertz ellipses the footprints are (semi-axes as "
+                                             "load^(1/3)): the raceway operator and the ring's residual flexibility "
+                                             "under a ball are stored for each, and a run interpolates each ball's "
+                                             "between them at its load; empty: one fixed footprint (the bearing scene "
+                                             "sets them from its balls unless Model/Ball footprint = fixed) [N].",
+                                             0.0, 1e9, true)),
             Spec::selection("Reduction/Compare with full FE", "true",
                             "Also solve the full FE model (lowest 10 free modes, a static squeeze of the outer "
                             "surface, two balls on the raceway and the raceway approach under them) and report the "
@@ -550,8 +597,7 @@ namespace fretsim::models
       try
         {
           result.raceway = reduction::raceway_operators(cb, model, request.body.ring, request.raceway_ball_positions,
-                                                        request.footprint_circumferential,
-                                                        request.footprint_transverse);
+                                                        request.footprints);
         }
       catch (const std::invalid_argument &error) // a patch point the mesh's raceway does not hold
         {
@@ -577,7 +623,8 @@ namespace fretsim::models
           display("residual flexibility", 0.0);
           fem::ShiftedStaticSolver  solver(model, 0.0);
           const fem::SurfaceGridMap map(model, request.grid_surface, grid);
-          result.residual = residual_flexibility(solver, map, whole_model(result, 0.0), grid, {}, 1, true);
+          result.residual = residual_flexibility(solver, map, whole_model(result, 0.0), grid, request.body.ring, {}, 1,
+                                                 true);
         }
       if (request.body.bodies == "ring" && request.clamped_surfaces.empty() && grid.nx > 0 &&
           !result.raceway.angles.empty() && starts_with_rigid_motions(result.matrices))
@@ -586,13 +633,7 @@ namespace fretsim::models
           fem::ShiftedStaticSolver  solver(model, request.settings.static_shift_hz, /*inertia_relief=*/true);
           const fem::SurfaceGridMap map(model, request.grid_surface, grid);
           const Truncation          whole = whole_model(result, solver.shift());
-          result.residual = residual_flexibility(solver, map, whole, grid,
-                                                 [&](double angle, double force) {
-                                                   fem::RacewayBallLoad ball = unit_ball(request, angle);
-                                                   ball.force                = force;
-                                                   return ball;
-                                                 },
-                                                 1);
+          result.residual = residual_flexibility(solver, map, whole, grid, request.body.ring, request.footprints, 1);
         }
     }
 
@@ -612,9 +653,18 @@ namespace fretsim::models
           << ", reduced matrices " << result.timings.reduced_matrices << "); operators " << times.grid_and_points
           << " s\n";
       if (!result.raceway.angles.empty())
-        out << "raceway:      " << result.raceway.angles.size() << " ball positions (footprint "
-            << std::setprecision(3) << 1e3 * request.footprint_circumferential << " x "
-            << 1e3 * request.footprint_transverse << " mm) in " << std::setprecision(2) << times.raceway << " s\n";
+        {
+          out << "raceway:      " << result.raceway.angles.size() << " ball positions, footprint" << std::defaultfloat
+              << std::setprecision(3);
+          for (const reduction::BallFootprint &f : request.footprints)
+            {
+              out << (&f == &request.footprints.front() ? " " : ", ") << 1e3 * f.semi_axis_circumferential << " x "
+                  << 1e3 * f.semi_axis_transverse << " mm";
+              if (f.load > 0.0)
+                out << " (" << f.load << " N)";
+            }
+          out << " in " << std::fixed << std::setprecision(2) << times.raceway << " s\n";
+        }
       if (!result.residual.empty())
         out << "residual:     R = K^-1 - T K_r^-1 T^T of the pressure on the interface grid"
             << (result.residual.ball.empty() ? "" : " and of a ball") << ", from " << result.residual.solves

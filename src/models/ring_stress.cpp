@@ -29,7 +29,7 @@ namespace fretsim::models
       const int   nx    = t.grid.nx, ny = t.grid.ny;
       const auto  cells = t.cells();
       if (t.layers() == 0 || t.stress.size() != static_cast<std::size_t>(t.period) * 3 * ny * t.layers() * cells * 6 ||
-          t.ball_stress.size() != static_cast<std::size_t>(t.period) * t.layers() * cells * 6)
+          t.ball_stress.size() != t.ball_footprints() * static_cast<std::size_t>(t.period) * t.layers() * cells * 6)
         throw std::invalid_argument("models::RingStressTable: tables without stresses on their layers or a ball table");
       const double area = t.grid.cell_area();
       // Rows 3 ny .. 6 ny of the load are empty: one square kernel for the
@@ -76,7 +76,8 @@ namespace fretsim::models
       }
     for (std::size_t b = 0; b < ball_angles.size(); ++b)
       if (ball_loads[b] != 0.0)
-        detail::add_ball_table(t.grid, t.period, ball_angles[b], ball_loads[b], t.ball_stress, 6, layers,
+        detail::add_ball_tables(t.grid, t.period, t.ball_footprint_loads, ball_angles[b], ball_loads[b], t.ball_stress, 6,
+                                layers,
                                [&](std::size_t point, int comp, double value) {
                                  const std::size_t layer = point / cells, cell = point % cells;
                                  stress[(layer * 6 + static_cast<std::size_t>(comp)) * cells + cell] += value;
@@ -99,15 +100,15 @@ namespace fretsim::models
     request.circumferential_cells = divisions.circumferential;
     request.depths                = depths;
     request.points_per_side       = points_per_side;
-    request.ball                  = [&](double angle) {
-      fem::RacewayBallLoad ball;
-      ball.ring                      = ring.ring;
-      ball.angle                     = angle;
-      ball.contact_angle             = model.raceway.contact_angle;
-      ball.semi_axis_circumferential = model.raceway.semi_axis_circumferential;
-      ball.semi_axis_transverse      = model.raceway.semi_axis_transverse;
-      ball.force                     = 1.0;
-      return ball;
+    request.ball_footprint_loads  = model.raceway.footprint_loads();
+    request.balls                 = [&](double angle) {
+      std::vector<fem::RacewayBallLoad> balls;
+      for (const reduction::BallFootprint &footprint : model.raceway.footprints)
+        {
+          balls.push_back(reduction::unit_ball(ring.ring, angle, footprint));
+          balls.back().contact_angle = model.raceway.contact_angle;
+        }
+      return balls;
     };
     return interface_influence(fe, model.interface_grid.grid, request);
   }
@@ -116,8 +117,8 @@ namespace fretsim::models
   {
     std::ostringstream text;
     const auto        &d = source.divisions;
-    text << std::setprecision(17) << "ring stress tables 2\n"
-         << reduce_input_hash(source.config) << '\n'
+    text << std::setprecision(17) << "ring stress tables 3\n"
+         << reduce_input_hash(source.config, source.footprint_overrides) << '\n'
          << d.circumferential << ' ' << d.radial_ring << ' ' << d.axial << ' ' << d.axial_land << ' '
          << d.radial_grading << '\n'
          << source.points_per_side << '\n';
@@ -156,7 +157,8 @@ namespace fretsim::models
           const std::size_t P = static_cast<std::size_t>(t.period), cells = t.cells(), layers = t.layers();
           file.write_dataset("/depths", "m", {layers}, t.depths);
           file.write_dataset("/stress", "Pa/N", {P, 3, static_cast<std::size_t>(g.ny), layers, cells, 6}, t.stress);
-          file.write_dataset("/ball_stress", "Pa/N", {P, layers, cells, 6}, t.ball_stress);
+          file.write_dataset("/ball_stress", "Pa/N", {t.ball_footprints(), P, layers, cells, 6}, t.ball_stress);
+          file.write_dataset("/ball_footprint_loads", "N", {t.ball_footprint_loads.size()}, t.ball_footprint_loads);
         }
         std::filesystem::rename(temporary, path);
       }
@@ -195,6 +197,7 @@ namespace fretsim::models
         t.depths      = ResultsFile::read_dataset(path, "/depths");
         t.stress      = ResultsFile::read_dataset(path, "/stress");
         t.ball_stress = ResultsFile::read_dataset(path, "/ball_stress");
+        t.ball_footprint_loads = ResultsFile::read_dataset(path, "/ball_footprint_loads");
       }
     catch (const std::exception &error)
       {

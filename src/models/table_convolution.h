@@ -3,6 +3,7 @@
 // columns, shared by the full-FE reference and the ring's stress tables.
 // Internal to the models library.
 #include <fretsim/contact/convolution.h>
+#include <fretsim/coupling/bearing.h>
 #include <fretsim/fem/surface_grid_map.h>
 
 #include <cmath>
@@ -95,7 +96,7 @@ namespace fretsim::models::detail
   /// ([phase][layer][cell][components], shifted to the ball's column) through
   /// add(layer × cells + cell, component, value).
   template <typename Add>
-  void add_ball_table(const fem::CylinderGrid &grid, int period, double psi, double q, const Vector &table,
+  void add_ball_table(const fem::CylinderGrid &grid, int period, double psi, double q, const double *table,
                       int components, std::size_t layers, Add add)
   {
     const int         nx = grid.nx, ny = grid.ny;
@@ -114,10 +115,26 @@ namespace fretsim::models::detail
               {
                 const std::size_t target = static_cast<std::size_t>(j) * nx + i;
                 const std::size_t source = static_cast<std::size_t>(j) * nx + ((i - shift) % nx + nx) % nx;
-                const double     *row    = table.data() + ph * per_phase + (layer * cells + source) * components;
+                const double     *row    = table + ph * per_phase + (layer * cells + source) * components;
                 for (int comp = 0; comp < components; ++comp)
                   add(layer * cells + target, comp, weight * row[comp]);
               }
       }
+  }
+
+  /// The same for a ball of load q whose tables are one per footprint
+  /// ([footprint][phase][layer][cell][components]), tabulated at the ball
+  /// loads `footprint_loads` (empty: one table): the footprints' tables
+  /// around q, weighted as the co-simulation weighs the raceway rows
+  /// (coupling::footprint_blend).
+  template <typename Add>
+  void add_ball_tables(const fem::CylinderGrid &grid, int period, const Vector &footprint_loads, double psi, double q,
+                       const Vector &tables, int components, std::size_t layers, Add add)
+  {
+    const std::size_t per_footprint = static_cast<std::size_t>(period) * layers * grid.size() * components;
+    const coupling::FootprintBlend blend = coupling::footprint_blend(footprint_loads, q);
+    for (std::size_t m = 0; m < blend.count; ++m)
+      add_ball_table(grid, period, psi, blend.weights[m] * q, tables.data() + (blend.first + m) * per_footprint,
+                     components, layers, add);
   }
 } // namespace fretsim::models::detail

@@ -109,6 +109,19 @@ namespace fretsim::scenes
         Spec::integer_range("Model/Fixed-interface modes", "0",
                             "m of the ring's model over its reduction configuration's (0: the configuration's) [-].", 0,
                             5000),
+        Spec::selection("Model/Ball footprint", "load following",
+                        "The balls' patch on the raceway, in the ring's model (the raceway operator and its residual "
+                        "flexibility under a ball), its stress tables and `compare`/`reference`: load following, each "
+                        "ball's Hertz ellipse of its current load, interpolated between the ellipses of Model/Ball "
+                        "footprints loads (the model and tables get -hertz in their names); fixed, the reduction "
+                        "configuration's Reduction/Ball footprint semi-axes whatever the load [-].",
+                        "load following|fixed"),
+        Spec::integer_range("Model/Ball footprints", "7",
+                            "Load following: how many ball loads' Hertz ellipses the model and tables hold (odd: the "
+                            "rows are quadratic in load^(1/3) over pieces of three), equally spaced in load^(1/3) from "
+                            "a point load up to the load at which the outer contact's peak pressure reaches ISO 76's "
+                            "static limit of 4.2 GPa (docs/bearing.md) [-].",
+                            3, 63),
         text("Model/Housing reduction configuration", "",
              "The ring_housing configuration (Mesh/Bodies = housing, Reduction/Coupling surfaces = housing_bore) of a "
              "flexible housing's Craig-Bampton model, relative to this file's directory; the same Ring/Outer radius, "
@@ -612,8 +625,9 @@ namespace fretsim::scenes
             ring.lowest_elastic_frequency_hz = f;
             break;
           }
-      ring.raceway_angles   = model.raceway.angles.size();
-      ring.raceway_approach = model.raceway.approach;
+      ring.raceway_angles          = model.raceway.angles.size();
+      ring.raceway_approach        = model.raceway.approach;
+      ring.raceway_footprint_loads = model.raceway.footprint_loads();
       return ring;
     }
   } // namespace
@@ -1131,6 +1145,8 @@ namespace fretsim::scenes
     summary.set("ball_count", static_cast<long long>(s.run.bearing.ball_count));
     summary.set("pitch_diameter_m", s.run.bearing.pitch_diameter);
     summary.set("ball_contact_stiffness_N_per_m1.5", s.run.ball_stiffness);
+    summary.set("ball_footprint", std::string(ring.raceway_footprint_loads.empty() ? "fixed" : "load following"));
+    summary.set("ball_footprint_loads_N", ring.raceway_footprint_loads);
     summarise_results(summary, s, ring, risk, record, measures);
     summary.set_object("integrator", integrator_summary(s, stats));
     summarise_times(summary, s, stats, record, model_seconds, run_seconds);

@@ -55,7 +55,7 @@ TEST(BearingScene, RunsEndToEndAndTheInterfaceSeesTheBallPass)
   ASSERT_EQ(result.exit_code, 0) << result.output;
   EXPECT_NE(result.output.find("building it"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("stress tables"), std::string::npos) << result.output;
-  EXPECT_TRUE(std::filesystem::exists(dir / "ring-stress-tables.h5"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "ring-hertz-stress-tables.h5"));
   const auto summary = read_text(dir / "out" / "summary.json");
   EXPECT_NE(summary.find("\"ring_stresses\": \"full FE\""), std::string::npos);
   std::printf("%s\n", summary.c_str());
@@ -125,7 +125,7 @@ TEST(BearingScene, RunsEndToEndAndTheInterfaceSeesTheBallPass)
   ASSERT_EQ(other.exit_code, 0) << other.output;
   EXPECT_NE(other.output.find("--set 'Reduction/Characteristic constraint modes=20'"), std::string::npos)
     << other.output;
-  EXPECT_TRUE(std::filesystem::exists(dir / "model-ncc20.h5"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "model-ncc20-hertz.h5"));
   EXPECT_EQ(other.output.find("stress tables"), std::string::npos) << other.output; // the ring's, whatever its basis
   EXPECT_EQ(summary_number(read_text(dir / "out3" / "summary.json"), "reduced_coordinates"), 20.0 + 10.0);
   const auto original = run_program("run " + (dir / "scene.prm").string() + " -q --no-plots -o " +
@@ -135,9 +135,12 @@ TEST(BearingScene, RunsEndToEndAndTheInterfaceSeesTheBallPass)
   EXPECT_EQ(summary_number(read_text(dir / "out4" / "summary.json"), "reduced_coordinates"), 30.0 + 10.0);
   const auto compare =
     fretsim::app::read_compare_inputs((dir / "scene.prm").string(), {{"Model/Characteristic constraint modes", "20"}});
-  EXPECT_EQ(compare.model_file, (dir / "model-ncc20.h5").string());
-  EXPECT_EQ(compare.model_overrides,
-            (std::vector<std::pair<std::string, std::string>>{{"Reduction/Characteristic constraint modes", "20"}}));
+  EXPECT_EQ(compare.model_file, (dir / "model-ncc20-hertz.h5").string());
+  // The basis, then the footprints that follow the load (seven Hertz ellipses).
+  ASSERT_EQ(compare.model_overrides.size(), 4u);
+  EXPECT_EQ(compare.model_overrides[0],
+            (std::pair<std::string, std::string>{"Reduction/Characteristic constraint modes", "20"}));
+  EXPECT_EQ(compare.model_overrides[1].first, "Reduction/Ball footprint loads");
 }
 
 TEST(BearingScene, UnderMpiexecTheRanksBuildTheModelsAndRankZeroRunsAlone)
@@ -165,8 +168,8 @@ TEST(BearingScene, UnderMpiexecTheRanksBuildTheModelsAndRankZeroRunsAlone)
                           " 2>&1";
   ASSERT_EQ(std::system(mpi.c_str()), 0) << read_text(log);
   const std::string output = read_text(log);
-  EXPECT_TRUE(std::filesystem::exists(parallel_dir / "model.h5"));
-  EXPECT_TRUE(std::filesystem::exists(parallel_dir / "ring-stress-tables.h5"));
+  EXPECT_TRUE(std::filesystem::exists(parallel_dir / "model-hertz.h5"));
+  EXPECT_TRUE(std::filesystem::exists(parallel_dir / "ring-hertz-stress-tables.h5"));
   // One report of what is built, one run: each printed once.
   EXPECT_NE(output.find("building it"), std::string::npos) << output;
   EXPECT_EQ(output.find("building it"), output.rfind("building it")) << output;
@@ -180,8 +183,8 @@ TEST(BearingScene, UnderMpiexecTheRanksBuildTheModelsAndRankZeroRunsAlone)
   std::printf("D_max: two ranks' model %.12g, serial model %.12g\n", d_parallel, d_serial);
   ASSERT_GT(d_serial, 0.0);
   EXPECT_NEAR(d_parallel, d_serial, 0.01 * d_serial);
-  const auto parallel_model = fretsim::reduction::read_model_file((parallel_dir / "model.h5").string());
-  const auto serial_model   = fretsim::reduction::read_model_file((serial_dir / "model.h5").string());
+  const auto parallel_model = fretsim::reduction::read_model_file((parallel_dir / "model-hertz.h5").string());
+  const auto serial_model   = fretsim::reduction::read_model_file((serial_dir / "model-hertz.h5").string());
   ASSERT_EQ(parallel_model.free_frequencies_hz.size(), serial_model.free_frequencies_hz.size());
   const double highest = serial_model.free_frequencies_hz.back();
   for (std::size_t k = 0; k < serial_model.free_frequencies_hz.size(); ++k)
@@ -527,7 +530,7 @@ TEST(BearingScene, TheRingsResidualFlexibilityRaisesThePressureUnderTheBalls)
   // image, the run's) as the ring's table, its ratio is 1 to within what the
   // far images add and its 3 printed decimals (measured 4.0e-3; bound 1 %).
   {
-    auto        model = fretsim::reduction::read_model_file((dir / "model.h5").string());
+    auto        model = fretsim::reduction::read_model_file((dir / "model-hertz.h5").string());
     const auto &g     = model.interface_grid.grid;
     const double steel = 2.08e11 / (1.0 - 0.3 * 0.3);
     auto        &table = model.residual.traction[0];

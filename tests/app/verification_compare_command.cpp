@@ -97,10 +97,13 @@ namespace
 
   std::string scene(const std::filesystem::path &dir)
   {
+    // The configuration's fixed footprint: the model `reduce` built and
+    // `reduce --study` measured (the run's footprints that follow the load
+    // are checked against the full FE by `reference`).
     return "set Scene = bearing_housing\n"
            "subsection Model\n  set Reduction configuration = ring.prm\n  set Model file = " +
            (dir / "model.h5").string() +
-           "\nend\n"
+           "\n  set Ball footprint = fixed\nend\n"
            "subsection Compare\n  set Instants = 3\n  set Fixed-interface modes = 0, 8, 16\n"
            "  set Characteristic constraint modes = 12, 20, 40\n  set Full transient steps = 3\n"
            "  set Results file = " +
@@ -124,8 +127,9 @@ namespace
     m.n         = dims[0];
     m.mass      = ResultsFile::read_dataset(path, "/matrices/mass");
     m.grid_displacement = ResultsFile::read_dataset(path, "/operators/interface_grid/displacement");
-    m.approach  = ResultsFile::read_dataset(path, "/operators/raceway/approach", &dims);
-    m.n_angles  = dims[0];
+    m.approach  = ResultsFile::read_dataset(path, "/operators/raceway/approach", &dims); // [footprint][angle][n]
+    EXPECT_EQ(dims[0], 1u) << "the test reads one fixed footprint";
+    m.n_angles  = dims[1];
     m.nx = static_cast<int>(ResultsFile::read_double_attribute(path, "/operators/interface_grid", "nx"));
     m.ny = static_cast<int>(ResultsFile::read_double_attribute(path, "/operators/interface_grid", "ny"));
     m.hx = ResultsFile::read_double_attribute(path, "/operators/interface_grid", "hx_m");

@@ -65,7 +65,10 @@ TEST(ReduceCommand, WritesAModelThatMeetsTheFrequencyTarget)
   ASSERT_EQ(angles.size(), 720u);
   EXPECT_DOUBLE_EQ(angles[180], 0.5 * M_PI);
   ResultsFile::read_dataset((dir / "model.h5").string(), "/operators/raceway/approach", &dims);
-  EXPECT_EQ(dims, (std::vector<std::size_t>{720, 56}));
+  EXPECT_EQ(dims, (std::vector<std::size_t>{1, 720, 56})); // one fixed footprint
+  const auto footprints = ResultsFile::read_dataset((dir / "model.h5").string(), "/operators/raceway/footprints", &dims);
+  EXPECT_EQ(dims, (std::vector<std::size_t>{1, 3}));
+  EXPECT_EQ(footprints[2], 0.0); // no load: fixed
   EXPECT_NE(result.output.find("raceway:      720 ball positions"), std::string::npos) << result.output;
   const double full    = number_after(result.output, "raceway approach under a 2 kN ball at 90 deg (the opposite one "
                                                      "at 270 deg): full ");

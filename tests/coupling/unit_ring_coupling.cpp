@@ -293,6 +293,71 @@ TEST(BallTransfer, JacobianMatchesFiniteDifferencesAndLoadsActAlongTheOperator)
   EXPECT_LT(jacobian_error(5, q, v, 1, 1e-9, evaluate, dv), 1e-5);
 }
 
+TEST(BallTransfer, WithFootprintsThatFollowTheLoadEachBallsLoadAndRowAgree)
+{
+  // Three footprints' rows (a point load's, and those of 1 and 4 kN, scaled
+  // by 1.5 and 3 so that the footprint moves the loads): each ball's load must satisfy
+  // Q = K δ^{3/2} with δ from the row blended at Q itself
+  // (footprint_blend, rows linear in ψ between positions), and its
+  // generalised force be Q times that row, to rounding (1e-10). A row taken
+  // at another load (the point load's) gives loads off by more than 1 %.
+  auto                      ring = synthetic::random_ring(5, 8, 1, 9);
+  const std::vector<double> base = ring.raceway_approach;
+  ring.raceway_footprint_loads   = {1e-3, 1000.0, 4000.0};
+  for (const double scale : {1.5, 3.0})
+    for (const double value : base)
+      ring.raceway_approach.push_back(scale * value);
+  const double       stiffness = 7e9, clearance = 10e-6;
+  BallContacts       balls(ring, 9, stiffness, 0.0, clearance);
+  std::vector<double> angles(9);
+  for (int j = 0; j < 9; ++j)
+    angles[j] = 0.3 + 2.0 * M_PI * j / 9;
+  const double        e[2] = {1e-6, 40e-6}, e_rate[2] = {0.0, 0.0};
+  const auto          q = mixed_state(5, 21, 2e-6);
+  const std::vector<double> v(5, 0.0);
+  std::vector<double> f(5, 0.0);
+  balls.add_forces(angles, 0.0, e, e_rate, q.data(), v.data(), {f.data(), nullptr, nullptr});
+  const std::size_t   angles_stored = ring.raceway_angles;
+  std::vector<double> expected(5, 0.0);
+  int                 loaded = 0, moved = 0;
+  for (int j = 0; j < 9; ++j)
+    {
+      const double load  = balls.loads()[j];
+      const double at    = angles[j] / (2.0 * M_PI / angles_stored);
+      const auto   k0    = static_cast<std::size_t>(at) % angles_stored, k1 = (k0 + 1) % angles_stored;
+      const double w     = at - std::floor(at);
+      const auto   row_q = [&](std::size_t footprint) {
+        double sum = 0.0;
+        for (std::size_t i = 0; i < 5; ++i)
+          sum += ((1.0 - w) * ring.raceway_approach[(footprint * angles_stored + k0) * 5 + i] +
+                  w * ring.raceway_approach[(footprint * angles_stored + k1) * 5 + i]) *
+                 q[i];
+        return sum;
+      };
+      const FootprintBlend blend = footprint_blend(ring.raceway_footprint_loads, load);
+      double               approach = 0.0;
+      for (std::size_t m = 0; m < blend.count; ++m)
+        approach += blend.weights[m] * row_q(blend.first + m);
+      const double rest = e[0] * std::cos(angles[j]) + e[1] * std::sin(angles[j]) - 0.5 * clearance;
+      const double law  = rest - approach > 0.0 ? stiffness * std::pow(rest - approach, 1.5) : 0.0;
+      EXPECT_NEAR(load, law, 1e-10 * std::max(law, 1.0)) << j;
+      if (load <= 0.0)
+        continue;
+      ++loaded;
+      const double point_load = stiffness * std::pow(std::max(rest - row_q(0), 0.0), 1.5);
+      moved += std::abs(point_load / load - 1.0) > 0.01;
+      for (std::size_t i = 0; i < 5; ++i)
+        for (std::size_t m = 0; m < blend.count; ++m)
+          expected[i] += load * blend.weights[m] *
+                         ((1.0 - w) * ring.raceway_approach[((blend.first + m) * angles_stored + k0) * 5 + i] +
+                          w * ring.raceway_approach[((blend.first + m) * angles_stored + k1) * 5 + i]);
+    }
+  EXPECT_GT(loaded, 1);
+  EXPECT_GT(moved, 0);
+  for (std::size_t i = 0; i < 5; ++i)
+    EXPECT_NEAR(f[i], expected[i], 1e-10 * std::abs(expected[i]) + 1e-12) << i;
+}
+
 TEST(BallTransfer, ThePressuresResidualAtTheBallsIsTheTransposeOfTheBallsResidualAtTheInterface)
 {
   // Maxwell–Betti on the residual table: the balls' loads do as much work on
@@ -305,15 +370,18 @@ TEST(BallTransfer, ThePressuresResidualAtTheBallsIsTheTransposeOfTheBallsResidua
   const double        radius = ring.interface_radius, column_angle = grid.x(4) / radius;
   std::mt19937        generator(5);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  std::vector<double> table(grid.size()), pressure(grid.size());
+  // Three footprints' tables, each ball's blended at its load.
+  const std::vector<double> footprint_loads{200.0, 1500.0, 4000.0};
+  std::vector<double>       table(footprint_loads.size() * grid.size()), pressure(grid.size());
   for (double &value : table)
     value = 1e-10 * (uniform(generator) - 0.2); // m/N, either sign
   for (double &value : pressure)
     value = 1e6 * uniform(generator);
   const std::vector<double> angles{0.0123, 1.7, 3.1, -0.4, 6.25}, loads{500.0, 0.0, 3000.0, 1200.0, 80.0};
   std::vector<double>       field(grid.size(), 0.0);
-  add_ball_residual(grid, radius, table, column_angle, angles, loads, field);
-  const auto inward = pressure_residual_at_balls(grid, radius, table, column_angle, angles, pressure);
+  add_ball_residual(grid, radius, table, footprint_loads, column_angle, angles, loads, field);
+  const auto inward =
+    pressure_residual_at_balls(grid, radius, table, footprint_loads, column_angle, angles, loads, pressure);
   ASSERT_EQ(inward.size(), angles.size());
   double interface_work = 0.0, ball_work = 0.0;
   for (std::size_t c = 0; c < field.size(); ++c)
@@ -322,11 +390,14 @@ TEST(BallTransfer, ThePressuresResidualAtTheBallsIsTheTransposeOfTheBallsResidua
     ball_work += loads[b] * inward[b];
   EXPECT_NEAR(ball_work / interface_work, 1.0, 1e-12);
 
-  // A ball at the table's own column and one pressed cell read the table.
+  // A ball at the table's own column and one pressed cell read the table
+  // of its footprint (a load tabulated: that footprint's alone).
   std::vector<double> one_cell(grid.size(), 0.0);
   one_cell[grid.index(7, 2)] = 2e6;
-  const auto at_column = pressure_residual_at_balls(grid, radius, table, column_angle, {column_angle}, one_cell);
-  EXPECT_DOUBLE_EQ(at_column[0], table[grid.index(7, 2)] * 2e6 * grid.cell_area());
+  const auto at_column =
+    pressure_residual_at_balls(grid, radius, table, footprint_loads, column_angle, {column_angle}, {1500.0}, one_cell);
+  EXPECT_NEAR(at_column[0], table[grid.size() + grid.index(7, 2)] * 2e6 * grid.cell_area(),
+              1e-12 * std::abs(at_column[0]));
 }
 
 TEST(BallTransfer, TheRacewaysResidualInwardDisplacementActsAsLessClearance)

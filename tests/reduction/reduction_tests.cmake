@@ -1,7 +1,8 @@
 # Reduction tests (included from tests/CMakeLists.txt): one executable per
 # file, plus the Craig–Bampton and raceway operator verifications again under
 # `mpiexec -np 2` (the same numbers from a distributed model).
-fretsim_add_test_folder(reduction fretsim_reduction Eigen3::Eigen fretsim_hdf5) # hdf5: to write an older model file
+# hdf5: to write an older model file; coupling: the footprint interpolation the run uses
+fretsim_add_test_folder(reduction fretsim_reduction fretsim_coupling Eigen3::Eigen fretsim_hdf5)
 
 foreach(name verification_craig_bampton verification_raceway_operator)
   if(TARGET test_reduction_${name})

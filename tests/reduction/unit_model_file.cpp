@@ -44,12 +44,13 @@ namespace
     model.interface_grid.stress.assign(2 * 6 * 3, -1e6);
     model.sample_points.points = {{0.04, 0.0, 0.0}};
     model.sample_points.stress.assign(6 * 3, 3.5);
-    // Values whose decimal forms do not round-trip, to see bits kept.
+    // Values whose decimal forms do not round-trip, to see bits kept; two
+    // footprints that follow the load (Hertz ellipses of 1 and 8 kN).
     model.raceway.angles   = {0.0, M_PI};
-    model.raceway.approach = {1.0 / 3.0, -2.0 / 7.0, 1e-9 / 3.0, std::nextafter(0.1, 1.0), -M_PI, 5e-324};
-    model.raceway.semi_axis_circumferential = 0.3e-3;
-    model.raceway.semi_axis_transverse      = 1.3e-3 / 3.0;
-    model.raceway.contact_angle             = 0.0;
+    model.raceway.approach = {1.0 / 3.0, -2.0 / 7.0, 1e-9 / 3.0, std::nextafter(0.1, 1.0), -M_PI, 5e-324,
+                              2.0 / 3.0, -4.0 / 7.0, 2e-9 / 3.0, std::nextafter(0.2, 1.0), -2 * M_PI, 1e-323};
+    model.raceway.footprints    = {{0.3e-3 / 2.0, 1.3e-3 / 6.0, 1000.0}, {0.3e-3, 1.3e-3 / 3.0, 8000.0}};
+    model.raceway.contact_angle = 0.0;
     model.timings.total        = 1.5;
     model.provenance["mesh"]   = "parametric";
     model.input_hash           = fingerprint("inputs");
@@ -78,8 +79,17 @@ TEST(ModelFile, RoundTrip)
   EXPECT_EQ(back.timings.total, 1.5);
   EXPECT_EQ(back.raceway.angles, original.raceway.angles);
   EXPECT_EQ(back.raceway.approach, original.raceway.approach);
-  EXPECT_EQ(back.raceway.semi_axis_circumferential, original.raceway.semi_axis_circumferential);
-  EXPECT_EQ(back.raceway.semi_axis_transverse, original.raceway.semi_axis_transverse);
+  ASSERT_EQ(back.raceway.footprints.size(), 2u);
+  for (std::size_t f = 0; f < 2; ++f)
+    {
+      EXPECT_EQ(back.raceway.footprints[f].semi_axis_circumferential,
+                original.raceway.footprints[f].semi_axis_circumferential);
+      EXPECT_EQ(back.raceway.footprints[f].semi_axis_transverse, original.raceway.footprints[f].semi_axis_transverse);
+      EXPECT_EQ(back.raceway.footprints[f].load, original.raceway.footprints[f].load);
+    }
+  EXPECT_EQ(back.raceway.footprint_loads(), (std::vector<double>{1000.0, 8000.0}));
+  // A ball between them gets its own load's ellipse, semi-axes as Q^(1/3).
+  EXPECT_NEAR(back.raceway.footprint_at(4000.0).semi_axis_transverse, 1.3e-3 / 3.0 * std::cbrt(0.5), 1e-18);
   EXPECT_EQ(back.raceway.contact_angle, original.raceway.contact_angle);
   EXPECT_TRUE(back.residual.empty());
 }
@@ -94,8 +104,8 @@ TEST(ModelFile, ResidualFlexibilityRoundTripsWithAndWithoutItsBallTable)
       auto        &residual = model.residual;
       residual.column_angle = 0.5 / 0.04;
       residual.traction[0]  = {1e-12 / 3.0, 5e-324}; // [1 row][2 cells]
-      if (with_ball)
-        residual.ball = {1e-10, -1e-10 / 3.0};
+      if (with_ball) // [footprint][cell]
+        residual.ball = {1e-10, -1e-10 / 3.0, 2e-10, -2e-10 / 3.0};
       const auto path = scratch(with_ball ? "ring_residual.h5" : "housing_residual.h5");
       write_model_file(path.string(), model);
       const ReducedModel back = read_model_file(path.string(), fingerprint("inputs"));
@@ -153,4 +163,35 @@ TEST(ModelFile, RefusesOtherInputsTruncationAndForeignFiles)
   std::ofstream(foreign) << "not HDF5\n";
   EXPECT_THROW(read_model_file(foreign.string()), ModelFileError);
   EXPECT_THROW(read_model_file(scratch("missing.h5").string()), ModelFileError);
+
+  // A file of the format before load-following footprints (version 3) is
+  // refused in one line that says so (the scene then rebuilds it).
+  const auto older = scratch("version3.h5");
+  std::filesystem::copy_file(path, older, std::filesystem::copy_options::overwrite_existing);
+  {
+    const hid_t file = H5Fopen(older.string().c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(file, 0);
+    const hid_t  attribute = H5Aopen(file, "format_version", H5P_DEFAULT);
+    const double version   = 3.0;
+    ASSERT_GE(H5Awrite(attribute, H5T_NATIVE_DOUBLE, &version), 0);
+    H5Aclose(attribute);
+    H5Fclose(file);
+  }
+  try
+    {
+      read_model_file(older.string());
+      FAIL() << "a version 3 model file was accepted";
+    }
+  catch (const ModelFileError &error)
+    {
+      const std::string message = error.what();
+      EXPECT_NE(message.find("format version 3"), std::string::npos) << message;
+      EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    }
+
+  // Footprints that are not one load's Hertz ellipses scaled are refused.
+  ReducedModel wrong = example();
+  wrong.raceway.footprints[0].semi_axis_transverse *= 1.01;
+  write_model_file(path.string(), wrong);
+  EXPECT_THROW(read_model_file(path.string()), ModelFileError);
 }

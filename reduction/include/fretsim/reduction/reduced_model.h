@@ -40,17 +40,40 @@ namespace fretsim::reduction
     std::vector<double>      stress;       ///< [point][6][n], cylindrical Voigt [Pa per unit q]
   };
 
+  /// The Hertz-distributed patch of a ball on the raceway: its semi-axes,
+  /// and the ball load whose Hertz ellipse it is (0: a fixed footprint, the
+  /// same whatever the load).
+  struct BallFootprint
+  {
+    double semi_axis_circumferential = 0.0; ///< a [m]
+    double semi_axis_transverse      = 0.0; ///< b, along the groove arc [m]
+    double load                      = 0.0; ///< [N]
+  };
+
   /// Ball loads on the raceway (co-simulation): row k is Tᵀ f_k for a unit
   /// Hertz-distributed ball load at ψ_k = 2π k / n_angles along the contact
   /// normal (outwards); r_k·q is the raceway's outward approach there [m].
+  /// One table per footprint: a fixed one, or the Hertz ellipses of a few
+  /// ball loads between which a run interpolates each ball's row at its load.
   struct RacewayOperators
   {
     std::vector<double> angles;   ///< ψ_k [rad], ascending, uniform from 0; empty if none
-    std::vector<double> approach; ///< [angle][n] [m per unit q] (= N per unit q per N of ball load)
-    double semi_axis_circumferential = 0.0; ///< footprint used [m]
-    double semi_axis_transverse      = 0.0; ///< [m]
-    double contact_angle             = 0.0; ///< [rad]
+    std::vector<double> approach; ///< [footprint][angle][n] [m per unit q] (= N per unit q per N of ball load)
+    std::vector<BallFootprint> footprints; ///< ascending loads, or one fixed footprint
+    double                     contact_angle = 0.0; ///< [rad]
+    /// Whether the footprint follows the ball load (footprints of loads > 0).
+    bool follows_load() const { return !footprints.empty() && footprints.front().load > 0.0; }
+    /// The footprints' loads, empty for a fixed footprint [N].
+    std::vector<double> footprint_loads() const;
+    /// The patch of a ball of load Q [N]: the Hertz ellipse of Q (semi-axes
+    /// ∝ Q^{1/3}; Q ≤ 0: the smallest footprint), or the fixed footprint.
+    BallFootprint footprint_at(double load) const;
   };
+
+  /// Checks a footprint table: one fixed footprint (load 0), or Hertz
+  /// ellipses of increasing loads > 0, both semi-axes ∝ Q^{1/3} (relative
+  /// 1e-6). Throws std::invalid_argument naming the problem.
+  void check_footprints(const std::vector<BallFootprint> &footprints);
 
   /// The part of the body's static compliance the basis misses, MacNeal's
   /// residual flexibility R = K⁻¹ − T K_r⁻¹ Tᵀ (a free ring: both with
@@ -67,8 +90,9 @@ namespace fretsim::reduction
     /// body: inward on a ring's outer surface, outward on a housing's bore),
     /// 1 circumferential, 2 axial; a component may be empty [m/N].
     std::array<std::vector<double>, 3> traction;
-    /// [cell] outward u_r per N of a ball at column_angle [m/N]; empty
-    /// for a body without a raceway (the housing).
+    /// [footprint][cell] outward u_r per N of a ball at column_angle (the
+    /// raceway operator's footprints) [m/N]; empty for a body without a
+    /// raceway (the housing).
     std::vector<double> ball;
     /// Full and reduced solves it took, and their wall time [s].
     unsigned int solves  = 0;
@@ -125,15 +149,18 @@ namespace fretsim::reduction
   PointOperators point_operators(const CraigBampton &basis, const fem::ElasticModel &model,
                                  const std::vector<fem::Point3> &points);
   /// The raceway operator of `n_angles` ball positions on the raceway of
-  /// `ring` (contact angle 0), each ball a Hertz patch with the given semi-axes
-  /// [m] (fem::RacewayBallLoad): row k equals basis.project_load() of a unit
-  /// ball at ψ_k, computed for all balls at once from the basis fields
-  /// sampled at every patch point. Throws std::invalid_argument if a patch
-  /// leaves the groove or a point is off the mesh's raceway. Collective; the
-  /// result is the same on every rank.
+  /// `ring` (contact angle 0), each ball a Hertz patch of each footprint
+  /// (fem::RacewayBallLoad): row k of footprint f equals basis.project_load()
+  /// of a unit ball at ψ_k, computed for all balls at once from the basis
+  /// fields sampled at every patch point. Throws std::invalid_argument for a
+  /// table check_footprints refuses, a patch that leaves the groove or a
+  /// point off the mesh's raceway. Collective; the result is the same on
+  /// every rank.
   RacewayOperators raceway_operators(const CraigBampton &basis, const fem::ElasticModel &model,
                                      const fem::RingGeometry &ring, unsigned int n_angles,
-                                     double semi_axis_circumferential, double semi_axis_transverse);
+                                     const std::vector<BallFootprint> &footprints);
+  /// A unit ball at `angle` on `ring`'s raceway with a footprint's patch.
+  fem::RacewayBallLoad unit_ball(const fem::RingGeometry &ring, double angle, const BallFootprint &footprint);
 
   /// 64-bit FNV-1a of a text, as 16 hex digits (an input fingerprint, not a
   /// cryptographic hash).

@@ -13,6 +13,8 @@
 // with K_i, K_o from the exact elliptical Hertz solution of each contact
 // (Harris & Kotzalas, Rolling Bearing Analysis, §6; docs/references.md §1.3).
 // Contact damping is Hunt–Crossley: Q = K δ^{3/2} (1 + 3/2 α δ̇), never negative.
+#include <array>
+#include <cstddef>
 #include <vector>
 
 namespace fretsim::coupling
@@ -41,6 +43,38 @@ namespace fretsim::coupling
   /// contact modulus E*). Throws std::invalid_argument for impossible geometry
   /// (conformity ≤ 1/2, ball larger than the pitch circle).
   BallContactStiffness ball_contact_stiffness(const BearingGeometry &bearing, double contact_modulus);
+
+  /// The Hertz ellipse of a ball on the outer raceway: its semi-axes and peak
+  /// pressure grow as Q^{1/3}, so their values at 1 N give every load's.
+  struct OuterContactEllipse
+  {
+    double semi_axis_rolling_per_newton_cube_root    = 0.0; ///< a / Q^{1/3}, along the raceway [m/N^{1/3}]
+    double semi_axis_transverse_per_newton_cube_root = 0.0; ///< b / Q^{1/3}, along the groove [m/N^{1/3}]
+    double peak_pressure_per_newton_cube_root        = 0.0; ///< p0 / Q^{1/3} [Pa/N^{1/3}]
+    /// `count` (odd, >= 3) ball loads whose ellipses tabulate the raceway
+    /// footprint: equally spaced in Q^{1/3} from a point load up to the load
+    /// at which p0 reaches `peak_pressure_limit` [N]. Throws
+    /// std::invalid_argument for another count.
+    std::vector<double> footprint_loads(double peak_pressure_limit, unsigned int count) const;
+  };
+  OuterContactEllipse outer_contact_ellipse(const BearingGeometry &bearing, double contact_modulus);
+
+  /// ISO 76's static limit of the contact pressure in a ball bearing [Pa]:
+  /// the raceway footprints are tabulated up to the load that reaches it.
+  inline constexpr double static_limit_peak_pressure = 4.2e9;
+
+  /// A ball's raceway row between footprints tabulated at the ball loads
+  /// `footprint_loads` (ascending): Σ_m weights[m] row[first + m] over
+  /// `count` footprints, quadratic in Q^{1/3} over pieces of three (from the
+  /// first), extrapolated beyond the last. One footprint (or none): that
+  /// one, whatever the load.
+  struct FootprintBlend
+  {
+    std::size_t           first = 0;
+    std::size_t           count = 1;
+    std::array<double, 3> weights{1.0, 0.0, 0.0};
+  };
+  FootprintBlend footprint_blend(const std::vector<double> &footprint_loads, double load);
 
   /// Cage angular speed with the outer ring fixed, ω_c = ω_i (1 - D_w/d_m) / 2 [rad/s].
   double cage_speed(const BearingGeometry &bearing, double inner_ring_speed);

@@ -36,6 +36,7 @@
 
 #include <fretsim/contact/surface_grid.h>
 
+#include <algorithm>
 #include <memory>
 #include <vector>
 
@@ -60,9 +61,14 @@ namespace fretsim::coupling
 
     /// Raceway ball operator: row k is Tᵀ f_k of a unit ball load at
     /// ψ_k = 2π k / n_angles pushing outwards; r(ψ)·q is the raceway's
-    /// outward approach [m per unit q]. Interpolated linearly in ψ.
-    std::vector<double> raceway_approach; ///< [n_angles][n]
+    /// outward approach [m per unit q]. Interpolated linearly in ψ. One
+    /// table per footprint: the Hertz ellipses of the ball loads
+    /// `raceway_footprint_loads` (ascending, footprint_blend), or a single
+    /// fixed footprint (no loads).
+    std::vector<double> raceway_approach; ///< [footprint][n_angles][n]
     std::size_t         raceway_angles = 0;
+    std::vector<double> raceway_footprint_loads; ///< [N]; empty: one fixed footprint
+    std::size_t         raceway_footprints() const { return std::max<std::size_t>(1, raceway_footprint_loads.size()); }
 
     /// The residual flexibility (what a basis misses of its body's static
     /// compliance; reduction::ResidualFlexibility), in the interface's
@@ -70,7 +76,8 @@ namespace fretsim::coupling
     /// the interface's gap opens at every cell per unit pressure on cell
     /// (0, jj) [m/Pa] (LocalCompliance's structural compliance): the ring's
     /// inward displacement, plus with a flexible housing its bore's outward
-    /// one; `residual_ball` [cell] (the ring's; empty: none, and then
+    /// one; `residual_ball` [footprint][cell] (the ring's, per raceway
+    /// footprint; empty: none, and then
     /// `residual_pressure` may be the housing's alone): the outward u_r per N
     /// of a ball at `residual_column_angle` [m/N], shifted around with each
     /// ball.
@@ -90,21 +97,27 @@ namespace fretsim::coupling
     void check() const;
   };
 
-  /// field += Σ_b Q_b R(θ − ψ_b): a ball residual table `table` [cell] (per N
-  /// of a ball at `column_angle` [rad]; ReducedRing::residual_ball) shifted
-  /// to each ball at ψ_b with load Q_b, linear between the grid's columns
-  /// (x = radius θ). The co-simulation's and compare's one way to place it.
+  /// field += Σ_b Q_b R(θ − ψ_b): a ball residual table `table`
+  /// [footprint][cell] (per N of a ball at `column_angle` [rad];
+  /// ReducedRing::residual_ball) shifted to each ball at ψ_b with load Q_b,
+  /// linear between the grid's columns (x = radius θ), and between the
+  /// footprints of `footprint_loads` at Q_b (footprint_blend; empty: one
+  /// table). The co-simulation's and compare's one way to place it.
   void add_ball_residual(const contact::SurfaceGrid &grid, double radius, const std::vector<double> &table,
-                         double column_angle, const std::vector<double> &angles, const std::vector<double> &loads,
+                         const std::vector<double> &footprint_loads, double column_angle,
+                         const std::vector<double> &angles, const std::vector<double> &loads,
                          std::vector<double> &field);
 
   /// Its reciprocal (Maxwell–Betti): how far the interface pressure
   /// `pressure` [Pa per cell] moves the raceway inward under each ball at
-  /// `angles` through the same table, Σ_c R(θ_c − ψ_b) p_c A [m]; the exact
-  /// transpose of add_ball_residual.
+  /// `angles` with `loads` (which pick its footprint) through the same
+  /// table, Σ_c R(θ_c − ψ_b) p_c A [m]; the exact transpose of
+  /// add_ball_residual.
   std::vector<double> pressure_residual_at_balls(const contact::SurfaceGrid &grid, double radius,
-                                                 const std::vector<double> &table, double column_angle,
-                                                 const std::vector<double> &angles, const contact::Field &pressure);
+                                                 const std::vector<double> &table,
+                                                 const std::vector<double> &footprint_loads, double column_angle,
+                                                 const std::vector<double> &angles, const std::vector<double> &loads,
+                                                 const contact::Field &pressure);
 
   /// A Craig–Bampton model of the housing (held at its outside), reduced on
   /// its bore: coordinates q_h ∈ R^n, the bore's displacement on the same grid
@@ -255,7 +268,9 @@ namespace fretsim::coupling
   /// raceway's residual inward displacement (set_raceway_residual, 0 unless
   /// set); the load Q_j acts on the ring as Q_j r(ψ_j) (generalised). r is
   /// interpolated linearly between the stored angles, the same weights both
-  /// ways.
+  /// ways; with footprints that follow the load, between the footprints'
+  /// rows at Q_j (footprint_blend), Q_j and its row solved together.
+  /// Newton's matrix leaves out the row's change with Q_j.
   class BallContacts
   {
   public:

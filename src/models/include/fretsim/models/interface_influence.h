@@ -17,6 +17,7 @@
 #include <fretsim/fem/elastic_model.h>
 #include <fretsim/fem/surface_grid_map.h>
 
+#include <algorithm>
 #include <array>
 #include <functional>
 #include <memory>
@@ -37,9 +38,14 @@ namespace fretsim::models
     /// body: xx circumferential, yy axial, zz radial (depth into the body),
     /// yz, xz, xy; tension positive [Pa/N].
     std::vector<double> stress;
-    /// A unit ball at the angle of column `phase`'s centre: [phase][cell][3]
-    /// and [phase][layer][cell][6]; empty for a body without a raceway.
+    /// A unit ball at the angle of column `phase`'s centre, per footprint:
+    /// [footprint][phase][cell][3] and [footprint][phase][layer][cell][6];
+    /// empty for a body without a raceway.
     std::vector<double> ball_displacement, ball_stress;
+    /// The ball loads whose Hertz ellipses the footprints are [N]; empty:
+    /// one fixed footprint (reduction::RacewayOperators).
+    std::vector<double> ball_footprint_loads;
+    std::size_t         ball_footprints() const { return std::max<std::size_t>(1, ball_footprint_loads.size()); }
     unsigned long       dofs   = 0;
     unsigned int        solves = 0;
     double              seconds = 0.0;
@@ -91,8 +97,10 @@ namespace fretsim::models
     unsigned int        circumferential_cells = 0; ///< of the mesh, for P
     std::vector<double> depths;                    ///< stress layers [m]; empty: no stresses
     int                 points_per_side = 3;       ///< s
-    /// A ball of unit force at an angle on the ring's raceway; empty: no ball table.
-    std::function<fem::RacewayBallLoad(double angle)> ball;
+    /// Balls of unit force at an angle on the ring's raceway, one per
+    /// footprint (the tables' order); empty: no ball table.
+    std::function<std::vector<fem::RacewayBallLoad>(double angle)> balls;
+    std::vector<double> ball_footprint_loads; ///< InterfaceInfluence's
   };
 
   /// The tables of `model` (its boundary ring_outer or housing_bore carries

@@ -27,12 +27,18 @@ namespace fretsim::models
   /// name, results/<name>-m<m>-ncc<n_cc>-model.h5 or <file>-m<m>-ncc<n_cc>.h5,
   /// so that each model keeps its file), and the reduction parameters the
   /// scene sets over the configuration's (Model/Fixed-interface modes,
-  /// Model/Characteristic constraint modes: the ring's only).
+  /// Model/Characteristic constraint modes, and the raceway footprints of
+  /// Model/Ball footprint = load following, which add -hertz to the name:
+  /// the ring's only).
   struct ModelSource
   {
     std::string config, file;
     std::string file_parameter; ///< the scene parameter that names the file
     std::vector<std::pair<std::string, std::string>> overrides; ///< Reduction/... = value
+    /// The raceway footprints among them (Reduction/Ball footprint ...), and
+    /// the tag they add to file names ("-hertz"); empty: the configuration's.
+    std::vector<std::pair<std::string, std::string>> footprint_overrides;
+    std::string                                      footprint_tag;
     std::string expected_hash; ///< the model file's input hash (reduce_input_hash of config and overrides)
   };
 
@@ -42,7 +48,8 @@ namespace fretsim::models
   ModelSource housing_model_source(const app::SceneParameters &scene);
   /// The ring's full-FE stress tables of a bearing_housing scene (Stresses/Ring
   /// mesh, Stresses/Ring mesh radial grading, its depth layers), kept beside
-  /// the ring's model file as <reduction configuration name>-stress-tables.h5.
+  /// the ring's model file as <reduction configuration name><footprint
+  /// tag>-stress-tables.h5.
   /// Throws app::InputError for a malformed mesh.
   RingStressSource ring_stress_source(const app::SceneParameters &scene, const ModelSource &ring,
                                       const std::vector<double> &depths);

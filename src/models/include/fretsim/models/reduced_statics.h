@@ -41,8 +41,9 @@ namespace fretsim::models
     std::vector<double> grid_displacement; ///< [cell][3][n]
     std::vector<double> grid_stress;       ///< [cell][6][n]
     std::vector<double> raceway_stress;    ///< [raceway point][6][n]
-    std::vector<double> approach;          ///< [angle][n]
+    std::vector<double> approach;          ///< [footprint][angle][n]
     std::size_t         n_angles = 0;
+    std::vector<double> footprint_loads;   ///< the footprints' ball loads [N]; empty: one fixed footprint
     /// Inertia relief: the first six constraint coordinates are the
     /// rigid-body motions R; M_r R [n][6] and the factor of Rᵀ M_r R [6][6].
     std::vector<double> mass_rigid, rigid_factor;
@@ -72,16 +73,20 @@ namespace fretsim::models
   /// y = A q for a row-major [rows][n] operator.
   std::vector<double> apply(const std::vector<double> &op, std::size_t n, const std::vector<double> &q);
 
-  /// row += factor r(ψ), r interpolated linearly between the stored
-  /// positions ψ_k = 2πk/n with the co-simulation's weights
-  /// (coupling/ring_coupling.cpp).
-  void add_ball_row(const Truncation &t, double angle, double factor, std::vector<double> &row);
+  /// row += factor r(ψ) of a ball of load `load` [N], r interpolated
+  /// linearly between the stored positions ψ_k = 2πk/n and between the
+  /// footprints at that load with the co-simulation's weights
+  /// (coupling::BallContacts).
+  void add_ball_row(const Truncation &t, double angle, double load, double factor, std::vector<double> &row);
+  /// row += factor r(ψ) of footprint `footprint` alone.
+  void add_footprint_row(const Truncation &t, std::size_t footprint, double angle, double factor,
+                         std::vector<double> &row);
 
   /// MacNeal's residual flexibility of the model's basis on its interface
   /// grid (reduction::ResidualFlexibility): unit forces of the first
   /// `components` traction components (1: pressure only; 3: all) on each cell
-  /// of the grid's first column, and a unit ball at its angle (`ball(angle,
-  /// force)` the raceway patch the model's operator was made with; empty: no
+  /// of the grid's first column, and a unit ball at its angle with each of
+  /// the raceway operator's `footprints` (`ring` its raceway; none: no
   /// ball), each solved by the full FE (`solver`, sampled by `map`) and by the
   /// whole model; R is the difference. The body is a free ring on its outer
   /// surface (`solver` and the reduced solves with inertia relief, the
@@ -90,8 +95,8 @@ namespace fretsim::models
   /// Collective.
   reduction::ResidualFlexibility residual_flexibility(fem::ShiftedStaticSolver &solver,
                                                       const fem::SurfaceGridMap &map, const Truncation &whole,
-                                                      const fem::CylinderGrid &grid,
-                                                      const std::function<fem::RacewayBallLoad(double, double)> &ball,
+                                                      const fem::CylinderGrid &grid, const fem::RingGeometry &ring,
+                                                      const std::vector<reduction::BallFootprint> &footprints,
                                                       int components, bool housing_bore = false);
   /// The residual flexibility (residual_flexibility()) applied to tractions
   /// on the grid and to ball loads (the ring's; none without its ball table):
@@ -101,7 +106,8 @@ namespace fretsim::models
   /// as the first column's, shifted by i0, and a ball between columns as the
   /// table interpolated. Components without a table are left out. `compare`'s
   /// check of what the co-simulation adds: reduced + R against the full FE.
-  std::vector<double> residual_u_r(const reduction::ResidualFlexibility &residual, const fem::CylinderGrid &grid,
+  std::vector<double> residual_u_r(const reduction::ResidualFlexibility &residual,
+                                   const std::vector<double> &footprint_loads, const fem::CylinderGrid &grid,
                                    const fem::GridTractions &tractions, const std::vector<double> &ball_angles,
                                    const std::vector<double> &ball_loads);
 

@@ -10,6 +10,7 @@
 
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace fretsim::reduction
@@ -59,6 +60,8 @@ namespace fretsim::models
   struct RingStressSource
   {
     std::string         config;       ///< the ring's reduction configuration
+    /// The raceway footprints set over it (ModelSource::footprint_overrides).
+    std::vector<std::pair<std::string, std::string>> footprint_overrides;
     std::string         file;         ///< where the tables are kept
     fem::MeshDivisions  divisions;
     std::vector<double> depths;       ///< [m]
@@ -66,7 +69,8 @@ namespace fretsim::models
     std::string         expected_hash;
   };
 
-  /// The source's input hash from its configuration, mesh, depths and points.
+  /// The source's input hash from its configuration and footprints, mesh,
+  /// depths and points.
   std::string ring_stress_hash(const RingStressSource &source);
 
   /// Writes stress tables (without their displacement tables) atomically;

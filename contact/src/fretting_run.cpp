@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <new>
 #include <type_traits>
 
@@ -81,6 +82,23 @@ namespace fretsim::contact
     return tensor;
   }
 
+  bool mirror_symmetric(const FrettingCase &c, const SurfaceGrid &grid)
+  {
+    if (!c.mirror_symmetry || grid.ny < 2 || c.stress_evaluator.method == "mlmi")
+      return false;
+    // sin(pi) is 1.2e-16, not 0: sliding at 180 degrees counts as along x.
+    if (std::abs(std::sin(c.sliding_direction)) > 1e-15)
+      return false;
+    const BulkStress &bulk = c.bulk_stress;
+    for (const auto *part : {&bulk.static_surface, &bulk.static_gradient, &bulk.amplitude_surface, &bulk.amplitude_gradient})
+      if ((*part)[2] != 0.0)
+        return false;
+    for (int j = 0; j < grid.ny; ++j)
+      if (std::abs(grid.y(j) + grid.y(grid.ny - 1 - j)) > 1e-12 * grid.hy)
+        return false;
+    return true;
+  }
+
   std::pair<double, double> FrettingCase::hertz_semi_axes() const
   {
     if (radius_x == radius_y)
@@ -140,7 +158,11 @@ namespace fretsim::contact
     settings.centre          = setup.residual_stress;
     settings.steps_per_cycle = setup.steps_per_cycle;
     settings.warmup_cycles   = setup.warmup_cycles;
-    dang_van = std::make_unique<DangVanField>(setup.depth_layers.size() * surface.size(), setup.dang_van, settings);
+    // On a mirror-symmetric history the risk at (x, -y) equals that at
+    // (x, y): the criterion runs on the rows y >= 0 only.
+    mirror_row = mirror_symmetric(setup, surface) ? surface.ny / 2 : 0;
+    dang_van   = std::make_unique<DangVanField>(setup.depth_layers.size() * (surface.ny - mirror_row) * surface.nx,
+                                                setup.dang_van, settings);
 
     // The superposition needs the level table to stay within the budget: the
     // history reaches the virgin shift amplitude (the first quarter cycle; a
@@ -222,7 +244,20 @@ namespace fretsim::contact
     times.stresses += seconds_since(start);
 
     start = Clock::now();
-    dang_van->add_step(total_stress);
+    if (mirrored())
+      {
+        const std::size_t per_layer = surface.size(), first_point = std::size_t(mirror_row) * surface.nx;
+        const double     *total     = total_stress.values.data();
+        dang_van->add_step((surface.ny - mirror_row) * surface.nx,
+                           [&](std::size_t layer, std::size_t first, std::size_t count, double *const *out) {
+                             for (int component = 0; component < stress_component_count; ++component)
+                               std::copy_n(total + (layer * stress_component_count + component) * per_layer +
+                                             first_point + first,
+                                           count, out[component]);
+                           });
+      }
+    else
+      dang_van->add_step(total_stress);
     times.dang_van += seconds_since(start);
   }
 
@@ -439,15 +474,18 @@ namespace fretsim::contact
         part.weight   = recipe.weight;
       }
     const std::size_t per_layer = surface.size();
+    // Mirrored, the criterion's points are the rows from mirror_row on, and
+    // the von Mises maximum over them is that over every point.
+    const std::size_t first_point = std::size_t(mirror_row) * surface.nx;
     // Per thread, a cache line apart; a maximum, so the split cannot change it.
     constexpr std::size_t apart = 8;
     std::vector<double>   largest(apart * static_cast<std::size_t>(omp_get_max_threads()), largest_six_j2);
-    dang_van->add_steps(per_layer, steps.size(),
+    dang_van->add_steps(per_layer - first_point, steps.size(),
                         [&](std::size_t step, std::size_t layer, std::size_t first, std::size_t count,
                             double *const *out) {
                           double &mine = largest[apart * static_cast<std::size_t>(omp_get_thread_num())];
-                          mine = sum_block(parts[step], layer * stress_component_count * per_layer + first, per_layer,
-                                           steps[step].bulk[layer].data(), count, out, mine);
+                          mine = sum_block(parts[step], layer * stress_component_count * per_layer + first_point + first,
+                                           per_layer, steps[step].bulk[layer].data(), count, out, mine);
                         });
     for (std::size_t thread = 0; thread < largest.size(); thread += apart)
       largest_six_j2 = std::max(largest_six_j2, largest[thread]);
@@ -501,10 +539,55 @@ namespace fretsim::contact
     return total_stress;
   }
 
+  void FrettingRun::mirror_onto(const std::vector<double> &half, std::vector<double> &full) const
+  {
+    const std::size_t nx = surface.nx, ny = surface.ny, first = mirror_row, rows = ny - first;
+    const std::size_t layers = setup.depth_layers.size();
+    full.resize(layers * ny * nx);
+    for (std::size_t layer = 0; layer < layers; ++layer)
+      for (std::size_t j = 0; j < ny; ++j)
+        {
+          const std::size_t row = (j >= first ? j : ny - 1 - j) - first;
+          std::copy_n(half.begin() + (layer * rows + row) * nx, nx, full.begin() + (layer * ny + j) * nx);
+        }
+  }
+
+  const std::vector<double> &FrettingRun::risk_now() const
+  {
+    run_pending_steps();
+    if (!mirrored())
+      return dang_van->risk();
+    if (mirrored_now_step != dang_van->step_count())
+      {
+        mirror_onto(dang_van->risk(), mirrored_now);
+        mirrored_now_step = dang_van->step_count();
+      }
+    return mirrored_now;
+  }
+
+  const std::vector<double> &FrettingRun::risk_max() const
+  {
+    run_pending_steps();
+    if (!mirrored())
+      return dang_van->risk_max();
+    if (mirrored_max_step != dang_van->step_count())
+      {
+        mirror_onto(dang_van->risk_max(), mirrored_max);
+        mirrored_max_step = dang_van->step_count();
+      }
+    return mirrored_max;
+  }
+
+  std::size_t FrettingRun::infinite_risk_max_count() const
+  {
+    const std::vector<double> &values = risk_max();
+    return static_cast<std::size_t>(std::count(values.begin(), values.end(), std::numeric_limits<double>::infinity()));
+  }
+
   RiskMaximum FrettingRun::risk_maximum() const
   {
     run_pending_steps();
-    const std::vector<double> &risk_max = dang_van->risk_max();
+    const std::vector<double> &risk_max = this->risk_max();
     RiskMaximum                result;
     std::size_t                worst = risk_max.size();
     for (std::size_t point = 0; point < risk_max.size(); ++point)
@@ -517,7 +600,8 @@ namespace fretsim::contact
     result.layer           = static_cast<int>(worst / surface.size());
     result.i               = static_cast<int>(cell % surface.nx);
     result.j               = static_cast<int>(cell / surface.nx);
-    result.step            = dang_van->risk_max_step()[worst];
+    const int row          = result.j >= mirror_row ? result.j : surface.ny - 1 - result.j;
+    result.step = dang_van->risk_max_step()[(result.layer * (surface.ny - mirror_row) + row - mirror_row) * surface.nx + result.i];
     return result;
   }
 

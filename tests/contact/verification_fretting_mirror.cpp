@@ -58,9 +58,8 @@ namespace
     FrettingRun reference(c, grid);
     EXPECT_TRUE(mirrored.mirrored());
     EXPECT_FALSE(reference.mirrored());
-    Comparison         result;
-    const double       mu_p0 = c.friction_coefficient * c.hertz_peak_pressure();
-    std::vector<double> now_difference;
+    Comparison   result;
+    const double mu_p0 = c.friction_coefficient * c.hertz_peak_pressure();
     while (!reference.finished())
       {
         mirrored.advance();

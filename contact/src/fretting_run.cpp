@@ -173,11 +173,15 @@ namespace fretsim::contact
       if (const MasingTraction *model = masing_traction(*traction_model))
         {
           const double levels = std::ceil(std::abs(setup.sliding_amplitude) / spacing) + 2.0;
-          const double bytes  = levels * static_cast<double>(total_stress.values.size()) * sizeof(double);
+          // Mirrored, the parts are kept on the criterion's rows only: half
+          // the memory the kernel zeroes on first touch, half the copies.
+          const std::size_t size  = setup.depth_layers.size() * stress_component_count * superposed_plane();
+          const double      bytes = levels * static_cast<double>(size) * sizeof(double);
           if (bytes <= static_cast<double>(setup.superposition_budget))
             {
               masing        = model;
-              virgin_stress = std::make_unique<LevelStore>(static_cast<std::size_t>(levels), total_stress.values.size());
+              virgin_stress = std::make_unique<LevelStore>(static_cast<std::size_t>(levels), size);
+              superposed_part(pressure_stress, pressure_part);
             }
         }
   }
@@ -274,13 +278,13 @@ namespace fretsim::contact
     std::unique_ptr<double, Free>      block;
     std::size_t                        field_size = 0, capacity = 0;
     std::vector<char>                  ready;
-    std::map<std::size_t, StressField> beyond;
+    std::map<std::size_t, std::vector<double>> beyond;
     StressField                        scratch;
 
     /// A level already evaluated.
     const double *level(std::size_t k) const
     {
-      return k < capacity ? block.get() + k * field_size : beyond.at(k).values.data();
+      return k < capacity ? block.get() + k * field_size : beyond.at(k).data();
     }
 
     LevelStore(std::size_t levels, std::size_t values) : field_size(values), capacity(levels), ready(levels, 0)
@@ -301,31 +305,52 @@ namespace fretsim::contact
     LevelStore &store = *virgin_stress;
     if (level >= store.capacity)
       {
-        StressField &field = store.beyond[level];
-        if (field.values.empty())
-          stresses->evaluate(no_load, masing->virgin_level_x(level), masing->virgin_level_y(level), field);
-        return field.values.data();
+        std::vector<double> &field = store.beyond[level];
+        if (field.empty())
+          {
+            stresses->evaluate(no_load, masing->virgin_level_x(level), masing->virgin_level_y(level), store.scratch);
+            field.resize(store.field_size);
+            superposed_part(store.scratch, field.data());
+          }
+        return field.data();
       }
     double *field = store.block.get() + level * store.field_size;
     if (!store.ready[level])
       {
         stresses->evaluate(no_load, masing->virgin_level_x(level), masing->virgin_level_y(level), store.scratch);
-        std::copy(store.scratch.values.begin(), store.scratch.values.end(), field);
+        superposed_part(store.scratch, field);
         store.ready[level] = 1;
       }
     return field;
   }
 
-  void FrettingRun::compose_shear(const MasingTraction::Composition &recipe, StressField &out)
+  std::size_t FrettingRun::superposed_plane() const
+  {
+    return static_cast<std::size_t>(surface.ny - mirror_row) * surface.nx;
+  }
+
+  void FrettingRun::superposed_part(const StressField &full, double *out) const
+  {
+    const std::size_t per_layer = surface.size(), plane = superposed_plane(), first_point = per_layer - plane;
+    for (std::size_t part = 0; part < setup.depth_layers.size() * stress_component_count; ++part)
+      std::copy_n(full.values.begin() + part * per_layer + first_point, plane, out + part * plane);
+  }
+
+  void FrettingRun::superposed_part(const StressField &full, std::vector<double> &out) const
+  {
+    out.resize(setup.depth_layers.size() * stress_component_count * superposed_plane());
+    superposed_part(full, out.data());
+  }
+
+  void FrettingRun::compose_shear(const MasingTraction::Composition &recipe, std::vector<double> &out)
   {
     const double *lower = level_stresses(recipe.lower);
     const double *upper = level_stresses(recipe.upper);
-    const double *base  = recipe.reversal >= 0 ? reversal_stress.at(recipe.reversal).values.data()
-                                                : pressure_stress.values.data();
-    out.resize(total_stress.n_layers, total_stress.ny, total_stress.nx);
-    double           *result = out.values.data();
+    const double *base  = recipe.reversal >= 0 ? reversal_stress.at(recipe.reversal).data() : pressure_part.data();
+    out.resize(pressure_part.size());
+    double           *result = out.data();
     const double      f = recipe.factor, w = recipe.weight;
-    const std::int64_t size = static_cast<std::int64_t>(out.values.size());
+    const std::int64_t size = static_cast<std::int64_t>(out.size());
     // As MasingTraction composes the traction, value by value.
 #pragma omp parallel for simd schedule(static) if (size > 65536)
     for (std::int64_t k = 0; k < size; ++k)
@@ -466,26 +491,26 @@ namespace fretsim::contact
       {
         const MasingTraction::Composition &recipe = steps[k].recipe;
         StressParts                       &part   = parts[k];
-        part.pressure = pressure_stress.values.data();
+        part.pressure = pressure_part.data();
         part.lower    = virgin_stress->level(recipe.lower);
         part.upper    = virgin_stress->level(recipe.upper);
-        part.base     = recipe.reversal >= 0 ? reversal_stress.at(recipe.reversal).values.data() : part.pressure;
+        part.base     = recipe.reversal >= 0 ? reversal_stress.at(recipe.reversal).data() : part.pressure;
         part.factor   = recipe.factor;
         part.weight   = recipe.weight;
       }
-    const std::size_t per_layer = surface.size();
-    // Mirrored, the criterion's points are the rows from mirror_row on, and
-    // the von Mises maximum over them is that over every point.
-    const std::size_t first_point = std::size_t(mirror_row) * surface.nx;
+    // Mirrored, the criterion's points and the parts are the rows from
+    // mirror_row on, and the von Mises maximum over them is that over every
+    // point.
+    const std::size_t plane = superposed_plane();
     // Per thread, a cache line apart; a maximum, so the split cannot change it.
     constexpr std::size_t apart = 8;
     std::vector<double>   largest(apart * static_cast<std::size_t>(omp_get_max_threads()), largest_six_j2);
-    dang_van->add_steps(per_layer - first_point, steps.size(),
+    dang_van->add_steps(plane, steps.size(),
                         [&](std::size_t step, std::size_t layer, std::size_t first, std::size_t count,
                             double *const *out) {
                           double &mine = largest[apart * static_cast<std::size_t>(omp_get_thread_num())];
-                          mine = sum_block(parts[step], layer * stress_component_count * per_layer + first_point + first,
-                                           per_layer, steps[step].bulk[layer].data(), count, out, mine);
+                          mine = sum_block(parts[step], layer * stress_component_count * plane + first, plane,
+                                           steps[step].bulk[layer].data(), count, out, mine);
                         });
     for (std::size_t thread = 0; thread < largest.size(); thread += apart)
       largest_six_j2 = std::max(largest_six_j2, largest[thread]);
@@ -514,25 +539,34 @@ namespace fretsim::contact
   {
     if (!total_written)
       {
-        // The same sums as the Dang Van step read, written out.
+        // The same sums as the Dang Van step read, written out; mirrored, on
+        // the rows from mirror_row on, and the rows below are their mirror
+        // images (yz and xy change sign).
         StressParts parts;
-        parts.pressure = pressure_stress.values.data();
+        parts.pressure = pressure_part.data();
         parts.lower    = virgin_stress->level(total_recipe.lower);
         parts.upper    = virgin_stress->level(total_recipe.upper);
-        parts.base = total_recipe.reversal >= 0 ? reversal_stress.at(total_recipe.reversal).values.data()
-                                                : parts.pressure;
+        parts.base = total_recipe.reversal >= 0 ? reversal_stress.at(total_recipe.reversal).data() : parts.pressure;
         parts.factor = total_recipe.factor;
         parts.weight = total_recipe.weight;
-        const std::size_t per_layer = surface.size();
-        const auto        add       = bulk_parts();
-        double           *total     = total_stress.values.data();
+        const std::size_t per_layer = surface.size(), plane = superposed_plane(), first_point = per_layer - plane;
+        const std::size_t nx = surface.nx, ny = surface.ny;
+        const auto        add   = bulk_parts();
+        double           *total = total_stress.values.data();
         for (std::size_t layer = 0; layer < add.size(); ++layer)
           {
-            const std::size_t offset = layer * stress_component_count * per_layer;
-            double           *out[stress_component_count];
+            double *out[stress_component_count];
             for (int component = 0; component < stress_component_count; ++component)
-              out[component] = total + offset + component * per_layer;
-            sum_block(parts, offset, per_layer, add[layer].data(), per_layer, out, 0.0);
+              out[component] = total + (layer * stress_component_count + component) * per_layer + first_point;
+            sum_block(parts, layer * stress_component_count * plane, plane, add[layer].data(), plane, out, 0.0);
+            for (int component = 0; component < stress_component_count; ++component)
+              {
+                const double sign  = component == 3 || component == 5 ? -1.0 : 1.0;
+                double      *field = total + (layer * stress_component_count + component) * per_layer;
+                for (std::size_t j = 0; j < std::size_t(mirror_row); ++j)
+                  for (std::size_t i = 0; i < nx; ++i)
+                    field[j * nx + i] = sign * field[(ny - 1 - j) * nx + i];
+              }
           }
         total_written = true;
       }

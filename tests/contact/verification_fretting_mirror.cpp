@@ -47,6 +47,7 @@ namespace
     double      risk_now           = 0.0; ///< max over points and steps of |D(t) - D_ref(t)| / D_ref,max
     double      risk_max           = 0.0; ///< max over points of |D_max - D_max,ref| / D_ref,max
     double      von_mises          = 0.0; ///< |sigma_vM,max - reference| / reference
+    double      stress             = 0.0; ///< max over values and steps of |sigma - sigma_ref| / max |sigma_ref|
     RiskMaximum mirrored, reference;
   };
 
@@ -60,6 +61,7 @@ namespace
     EXPECT_FALSE(reference.mirrored());
     Comparison   result;
     const double mu_p0 = c.friction_coefficient * c.hertz_peak_pressure();
+    double       largest_stress = 0.0;
     while (!reference.finished())
       {
         mirrored.advance();
@@ -73,6 +75,12 @@ namespace
                 std::max({result.traction_asymmetry, std::abs(tx[here] - tx[there]) / mu_p0,
                           std::abs(ty[here] + ty[there]) / mu_p0});
             }
+        const auto &sa = mirrored.stress().values, &sb = reference.stress().values;
+        for (std::size_t k = 0; k < sb.size(); ++k)
+          {
+            largest_stress = std::max(largest_stress, std::abs(sb[k]));
+            result.stress  = std::max(result.stress, std::abs(sa[k] - sb[k]));
+          }
         const auto &a = mirrored.risk_now(), &b = reference.risk_now();
         EXPECT_EQ(a.size(), b.size());
         for (std::size_t p = 0; p < b.size(); ++p)
@@ -84,6 +92,7 @@ namespace
     EXPECT_EQ(a.size(), b.size());
     for (std::size_t p = 0; p < b.size(); ++p)
       result.risk_max = std::max(result.risk_max, std::abs(a[p] - b[p]));
+    result.stress /= largest_stress;
     result.risk_now /= result.reference.value;
     result.risk_max /= result.reference.value;
     result.von_mises = std::abs(mirrored.von_mises_max() - reference.von_mises_max()) / reference.von_mises_max();
@@ -97,6 +106,7 @@ namespace
     EXPECT_LT(r.risk_max, 1e-12) << what;
     EXPECT_NEAR(r.mirrored.value, r.reference.value, 1e-12 * r.reference.value) << what;
     EXPECT_LT(r.von_mises, 1e-12) << what;
+    EXPECT_LT(r.stress, 1e-12) << what;
     // The maximum is at a pair of mirrored points; which of the two the
     // reference names first rests on round-off.
     EXPECT_EQ(r.mirrored.layer, r.reference.layer) << what;
@@ -104,7 +114,8 @@ namespace
     EXPECT_TRUE(r.mirrored.j == r.reference.j || r.mirrored.j == grid.ny - 1 - r.reference.j) << what;
     EXPECT_EQ(r.mirrored.step, r.reference.step) << what;
     std::cout << what << ": traction asymmetry " << r.traction_asymmetry << " mu p0, D(t) " << r.risk_now
-              << ", D_max field " << r.risk_max << " of D_max " << r.reference.value << "\n";
+              << ", D_max field " << r.risk_max << " of D_max " << r.reference.value << ", stresses " << r.stress
+              << " of the largest\n";
   }
 } // namespace
 

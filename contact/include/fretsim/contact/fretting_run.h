@@ -189,16 +189,22 @@ namespace fretsim::contact
     /// recipe (see the class), summed block by block as the criterion reads
     /// them, with the von Mises maximum.
     void run_pending_steps() const;
+    /// Points a layer of the superposition's parts: the criterion's rows.
+    std::size_t superposed_plane() const;
+    /// The rows from mirror_row on of `full` (every row if not mirrored),
+    /// layer by layer and component by component, into `out`.
+    void superposed_part(const StressField &full, double *out) const;
+    void superposed_part(const StressField &full, std::vector<double> &out) const;
     /// `half` (the criterion's points) mirrored onto every point into `full`.
     void mirror_onto(const std::vector<double> &half, std::vector<double> &full) const;
     /// The bulk stress on each layer at the current time (Voigt).
     std::vector<std::array<double, stress_component_count>> bulk_parts() const;
-    /// The stresses of virgin level k (total_stress's layout), evaluated on
+    /// The stresses of virgin level k (superposed_part), evaluated on
     /// first use.
     const double *level_stresses(std::size_t level);
     /// out = S(p) + S(tau_r) + f ((1 - w) S(T_l) + w S(T_u)) for `recipe`, the
-    /// pressure's stresses included (and kept so in reversal_stress).
-    void compose_shear(const MasingTraction::Composition &recipe, StressField &out);
+    /// pressure's stresses included (and kept so in reversal_stress), as superposed_part.
+    void compose_shear(const MasingTraction::Composition &recipe, std::vector<double> &out);
 
     FrettingCase                             setup;
     SurfaceGrid                              surface;
@@ -217,7 +223,8 @@ namespace fretsim::contact
     const MasingTraction                    *masing = nullptr; ///< set: superposed stresses
     struct LevelStore;
     std::unique_ptr<LevelStore>              virgin_stress;   ///< the levels' stresses
-    std::map<std::int64_t, StressField>      reversal_stress; ///< by reversal id, the pressure's included
+    std::map<std::int64_t, std::vector<double>> reversal_stress; ///< by reversal id, the pressure's included (superposed_part)
+    std::vector<double>                      pressure_part;   ///< superposed_part of pressure_stress
     /// A superposed step whose Dang Van step is still to run: its recipe and
     /// bulk stress per layer.
     struct PendingStep

@@ -69,7 +69,8 @@ namespace fretsim::contact
     /// Memory the superposition may keep [bytes]: the stresses of every
     /// virgin level, (amplitude / level spacing + 2) x layers x 6 x cells
     /// doubles (52 levels at 200 steps a cycle: 200 MB at 128^2 with 5
-    /// layers, 800 MB at 256^2). Above it, a stress evaluation per step.
+    /// layers, 800 MB at 256^2; half of it on the rows y >= 0 of a mirrored
+    /// run). Above it, a stress evaluation per step.
     std::size_t superposition_budget = std::size_t(512) << 20;
     /// true: where the history is mirror-symmetric about y = 0
     /// (mirror_symmetric()), the Dang Van criterion runs on the rows y >= 0

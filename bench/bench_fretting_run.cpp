@@ -68,7 +68,7 @@ namespace
           run.advance();
         times = run.stage_times();
         worst = run.risk_maximum();
-        benchmark::DoNotOptimize(run.risk().risk_max().data());
+        benchmark::DoNotOptimize(run.risk_max().data());
       }
     omp_set_num_threads(threads);
     state.counters["normal_s"]   = times.normal_contact;

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <new>
 #include <type_traits>
 
@@ -81,6 +82,23 @@ namespace fretsim::contact
     return tensor;
   }
 
+  bool mirror_symmetric(const FrettingCase &c, const SurfaceGrid &grid)
+  {
+    if (!c.mirror_symmetry || grid.ny < 2 || c.stress_evaluator.method == "mlmi")
+      return false;
+    // sin(pi) is 1.2e-16, not 0: sliding at 180 degrees counts as along x.
+    if (std::abs(std::sin(c.sliding_direction)) > 1e-15)
+      return false;
+    const BulkStress &bulk = c.bulk_stress;
+    for (const auto *part : {&bulk.static_surface, &bulk.static_gradient, &bulk.amplitude_surface, &bulk.amplitude_gradient})
+      if ((*part)[2] != 0.0)
+        return false;
+    for (int j = 0; j < grid.ny; ++j)
+      if (std::abs(grid.y(j) + grid.y(grid.ny - 1 - j)) > 1e-12 * grid.hy)
+        return false;
+    return true;
+  }
+
   std::pair<double, double> FrettingCase::hertz_semi_axes() const
   {
     if (radius_x == radius_y)
@@ -140,7 +158,11 @@ namespace fretsim::contact
     settings.centre          = setup.residual_stress;
     settings.steps_per_cycle = setup.steps_per_cycle;
     settings.warmup_cycles   = setup.warmup_cycles;
-    dang_van = std::make_unique<DangVanField>(setup.depth_layers.size() * surface.size(), setup.dang_van, settings);
+    // On a mirror-symmetric history the risk at (x, -y) equals that at
+    // (x, y): the criterion runs on the rows y >= 0 only.
+    mirror_row = mirror_symmetric(setup, surface) ? surface.ny / 2 : 0;
+    dang_van   = std::make_unique<DangVanField>(setup.depth_layers.size() * (surface.ny - mirror_row) * surface.nx,
+                                                setup.dang_van, settings);
 
     // The superposition needs the level table to stay within the budget: the
     // history reaches the virgin shift amplitude (the first quarter cycle; a
@@ -151,11 +173,15 @@ namespace fretsim::contact
       if (const MasingTraction *model = masing_traction(*traction_model))
         {
           const double levels = std::ceil(std::abs(setup.sliding_amplitude) / spacing) + 2.0;
-          const double bytes  = levels * static_cast<double>(total_stress.values.size()) * sizeof(double);
+          // Mirrored, the parts are kept on the criterion's rows only: half
+          // the memory the kernel zeroes on first touch, half the copies.
+          const std::size_t size  = setup.depth_layers.size() * stress_component_count * superposed_plane();
+          const double      bytes = levels * static_cast<double>(size) * sizeof(double);
           if (bytes <= static_cast<double>(setup.superposition_budget))
             {
               masing        = model;
-              virgin_stress = std::make_unique<LevelStore>(static_cast<std::size_t>(levels), total_stress.values.size());
+              virgin_stress = std::make_unique<LevelStore>(static_cast<std::size_t>(levels), size);
+              superposed_part(pressure_stress, pressure_part);
             }
         }
   }
@@ -222,7 +248,20 @@ namespace fretsim::contact
     times.stresses += seconds_since(start);
 
     start = Clock::now();
-    dang_van->add_step(total_stress);
+    if (mirrored())
+      {
+        const std::size_t per_layer = surface.size(), first_point = std::size_t(mirror_row) * surface.nx;
+        const double     *total     = total_stress.values.data();
+        dang_van->add_step((surface.ny - mirror_row) * surface.nx,
+                           [&](std::size_t layer, std::size_t first, std::size_t count, double *const *out) {
+                             for (int component = 0; component < stress_component_count; ++component)
+                               std::copy_n(total + (layer * stress_component_count + component) * per_layer +
+                                             first_point + first,
+                                           count, out[component]);
+                           });
+      }
+    else
+      dang_van->add_step(total_stress);
     times.dang_van += seconds_since(start);
   }
 
@@ -239,13 +278,13 @@ namespace fretsim::contact
     std::unique_ptr<double, Free>      block;
     std::size_t                        field_size = 0, capacity = 0;
     std::vector<char>                  ready;
-    std::map<std::size_t, StressField> beyond;
+    std::map<std::size_t, std::vector<double>> beyond;
     StressField                        scratch;
 
     /// A level already evaluated.
     const double *level(std::size_t k) const
     {
-      return k < capacity ? block.get() + k * field_size : beyond.at(k).values.data();
+      return k < capacity ? block.get() + k * field_size : beyond.at(k).data();
     }
 
     LevelStore(std::size_t levels, std::size_t values) : field_size(values), capacity(levels), ready(levels, 0)
@@ -266,31 +305,52 @@ namespace fretsim::contact
     LevelStore &store = *virgin_stress;
     if (level >= store.capacity)
       {
-        StressField &field = store.beyond[level];
-        if (field.values.empty())
-          stresses->evaluate(no_load, masing->virgin_level_x(level), masing->virgin_level_y(level), field);
-        return field.values.data();
+        std::vector<double> &field = store.beyond[level];
+        if (field.empty())
+          {
+            stresses->evaluate(no_load, masing->virgin_level_x(level), masing->virgin_level_y(level), store.scratch);
+            field.resize(store.field_size);
+            superposed_part(store.scratch, field.data());
+          }
+        return field.data();
       }
     double *field = store.block.get() + level * store.field_size;
     if (!store.ready[level])
       {
         stresses->evaluate(no_load, masing->virgin_level_x(level), masing->virgin_level_y(level), store.scratch);
-        std::copy(store.scratch.values.begin(), store.scratch.values.end(), field);
+        superposed_part(store.scratch, field);
         store.ready[level] = 1;
       }
     return field;
   }
 
-  void FrettingRun::compose_shear(const MasingTraction::Composition &recipe, StressField &out)
+  std::size_t FrettingRun::superposed_plane() const
+  {
+    return static_cast<std::size_t>(surface.ny - mirror_row) * surface.nx;
+  }
+
+  void FrettingRun::superposed_part(const StressField &full, double *out) const
+  {
+    const std::size_t per_layer = surface.size(), plane = superposed_plane(), first_point = per_layer - plane;
+    for (std::size_t part = 0; part < setup.depth_layers.size() * stress_component_count; ++part)
+      std::copy_n(full.values.begin() + part * per_layer + first_point, plane, out + part * plane);
+  }
+
+  void FrettingRun::superposed_part(const StressField &full, std::vector<double> &out) const
+  {
+    out.resize(setup.depth_layers.size() * stress_component_count * superposed_plane());
+    superposed_part(full, out.data());
+  }
+
+  void FrettingRun::compose_shear(const MasingTraction::Composition &recipe, std::vector<double> &out)
   {
     const double *lower = level_stresses(recipe.lower);
     const double *upper = level_stresses(recipe.upper);
-    const double *base  = recipe.reversal >= 0 ? reversal_stress.at(recipe.reversal).values.data()
-                                                : pressure_stress.values.data();
-    out.resize(total_stress.n_layers, total_stress.ny, total_stress.nx);
-    double           *result = out.values.data();
+    const double *base  = recipe.reversal >= 0 ? reversal_stress.at(recipe.reversal).data() : pressure_part.data();
+    out.resize(pressure_part.size());
+    double           *result = out.data();
     const double      f = recipe.factor, w = recipe.weight;
-    const std::int64_t size = static_cast<std::int64_t>(out.values.size());
+    const std::int64_t size = static_cast<std::int64_t>(out.size());
     // As MasingTraction composes the traction, value by value.
 #pragma omp parallel for simd schedule(static) if (size > 65536)
     for (std::int64_t k = 0; k < size; ++k)
@@ -431,22 +491,25 @@ namespace fretsim::contact
       {
         const MasingTraction::Composition &recipe = steps[k].recipe;
         StressParts                       &part   = parts[k];
-        part.pressure = pressure_stress.values.data();
+        part.pressure = pressure_part.data();
         part.lower    = virgin_stress->level(recipe.lower);
         part.upper    = virgin_stress->level(recipe.upper);
-        part.base     = recipe.reversal >= 0 ? reversal_stress.at(recipe.reversal).values.data() : part.pressure;
+        part.base     = recipe.reversal >= 0 ? reversal_stress.at(recipe.reversal).data() : part.pressure;
         part.factor   = recipe.factor;
         part.weight   = recipe.weight;
       }
-    const std::size_t per_layer = surface.size();
+    // Mirrored, the criterion's points and the parts are the rows from
+    // mirror_row on, and the von Mises maximum over them is that over every
+    // point.
+    const std::size_t plane = superposed_plane();
     // Per thread, a cache line apart; a maximum, so the split cannot change it.
     constexpr std::size_t apart = 8;
     std::vector<double>   largest(apart * static_cast<std::size_t>(omp_get_max_threads()), largest_six_j2);
-    dang_van->add_steps(per_layer, steps.size(),
+    dang_van->add_steps(plane, steps.size(),
                         [&](std::size_t step, std::size_t layer, std::size_t first, std::size_t count,
                             double *const *out) {
                           double &mine = largest[apart * static_cast<std::size_t>(omp_get_thread_num())];
-                          mine = sum_block(parts[step], layer * stress_component_count * per_layer + first, per_layer,
+                          mine = sum_block(parts[step], layer * stress_component_count * plane + first, plane,
                                            steps[step].bulk[layer].data(), count, out, mine);
                         });
     for (std::size_t thread = 0; thread < largest.size(); thread += apart)
@@ -476,35 +539,89 @@ namespace fretsim::contact
   {
     if (!total_written)
       {
-        // The same sums as the Dang Van step read, written out.
+        // The same sums as the Dang Van step read, written out; mirrored, on
+        // the rows from mirror_row on, and the rows below are their mirror
+        // images (yz and xy change sign).
         StressParts parts;
-        parts.pressure = pressure_stress.values.data();
+        parts.pressure = pressure_part.data();
         parts.lower    = virgin_stress->level(total_recipe.lower);
         parts.upper    = virgin_stress->level(total_recipe.upper);
-        parts.base = total_recipe.reversal >= 0 ? reversal_stress.at(total_recipe.reversal).values.data()
-                                                : parts.pressure;
+        parts.base = total_recipe.reversal >= 0 ? reversal_stress.at(total_recipe.reversal).data() : parts.pressure;
         parts.factor = total_recipe.factor;
         parts.weight = total_recipe.weight;
-        const std::size_t per_layer = surface.size();
-        const auto        add       = bulk_parts();
-        double           *total     = total_stress.values.data();
+        const std::size_t per_layer = surface.size(), plane = superposed_plane(), first_point = per_layer - plane;
+        const std::size_t nx = surface.nx, ny = surface.ny;
+        const auto        add   = bulk_parts();
+        double           *total = total_stress.values.data();
         for (std::size_t layer = 0; layer < add.size(); ++layer)
           {
-            const std::size_t offset = layer * stress_component_count * per_layer;
-            double           *out[stress_component_count];
+            double *out[stress_component_count];
             for (int component = 0; component < stress_component_count; ++component)
-              out[component] = total + offset + component * per_layer;
-            sum_block(parts, offset, per_layer, add[layer].data(), per_layer, out, 0.0);
+              out[component] = total + (layer * stress_component_count + component) * per_layer + first_point;
+            sum_block(parts, layer * stress_component_count * plane, plane, add[layer].data(), plane, out, 0.0);
+            for (int component = 0; component < stress_component_count; ++component)
+              {
+                const double sign  = component == 3 || component == 5 ? -1.0 : 1.0;
+                double      *field = total + (layer * stress_component_count + component) * per_layer;
+                for (std::size_t j = 0; j < std::size_t(mirror_row); ++j)
+                  for (std::size_t i = 0; i < nx; ++i)
+                    field[j * nx + i] = sign * field[(ny - 1 - j) * nx + i];
+              }
           }
         total_written = true;
       }
     return total_stress;
   }
 
+  void FrettingRun::mirror_onto(const std::vector<double> &half, std::vector<double> &full) const
+  {
+    const std::size_t nx = surface.nx, ny = surface.ny, first = mirror_row, rows = ny - first;
+    const std::size_t layers = setup.depth_layers.size();
+    full.resize(layers * ny * nx);
+    for (std::size_t layer = 0; layer < layers; ++layer)
+      for (std::size_t j = 0; j < ny; ++j)
+        {
+          const std::size_t row = (j >= first ? j : ny - 1 - j) - first;
+          std::copy_n(half.begin() + (layer * rows + row) * nx, nx, full.begin() + (layer * ny + j) * nx);
+        }
+  }
+
+  const std::vector<double> &FrettingRun::risk_now() const
+  {
+    run_pending_steps();
+    if (!mirrored())
+      return dang_van->risk();
+    if (mirrored_now_step != dang_van->step_count())
+      {
+        mirror_onto(dang_van->risk(), mirrored_now);
+        mirrored_now_step = dang_van->step_count();
+      }
+    return mirrored_now;
+  }
+
+  const std::vector<double> &FrettingRun::risk_max() const
+  {
+    run_pending_steps();
+    if (!mirrored())
+      return dang_van->risk_max();
+    if (mirrored_max_step != dang_van->step_count())
+      {
+        mirror_onto(dang_van->risk_max(), mirrored_max);
+        mirrored_max_step = dang_van->step_count();
+      }
+    return mirrored_max;
+  }
+
+  std::size_t FrettingRun::infinite_risk_max_count() const
+  {
+    const std::vector<double> &values = risk_max();
+    return static_cast<std::size_t>(std::count(values.begin(), values.end(), std::numeric_limits<double>::infinity()));
+  }
+
   RiskMaximum FrettingRun::risk_maximum() const
   {
     run_pending_steps();
-    const std::vector<double> &risk_max = dang_van->risk_max();
+    const std::vector<double> &risk_max = this->risk_max();
     RiskMaximum                result;
     std::size_t                worst = risk_max.size();
     for (std::size_t point = 0; point < risk_max.size(); ++point)
@@ -517,7 +634,8 @@ namespace fretsim::contact
     result.layer           = static_cast<int>(worst / surface.size());
     result.i               = static_cast<int>(cell % surface.nx);
     result.j               = static_cast<int>(cell / surface.nx);
-    result.step            = dang_van->risk_max_step()[worst];
+    const int row          = result.j >= mirror_row ? result.j : surface.ny - 1 - result.j;
+    result.step = dang_van->risk_max_step()[(result.layer * (surface.ny - mirror_row) + row - mirror_row) * surface.nx + result.i];
     return result;
   }
 

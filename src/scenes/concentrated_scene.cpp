@@ -513,7 +513,7 @@ namespace fretsim::scenes
                                                         &run.traction().traction_y(), &effective_friction, &slip};
         if (stress_fields)
           fields.push_back(&run.stress().values);
-        fields.push_back(&run.risk().risk());
+        fields.push_back(&run.risk_now());
         results.append_snapshot(time, fields);
       }
 
@@ -693,7 +693,7 @@ namespace fretsim::scenes
     progress.finish();
     history.completed = run.finished();
     if (results)
-      results->close(run.risk().risk_max(), history.completed,
+      results->close(run.risk_max(), history.completed,
                      (std::filesystem::path(options.output_directory) / "results.xdmf").string());
     return history;
   }
@@ -894,12 +894,13 @@ namespace fretsim::scenes
     summary.set("risk_max_location_m", std::vector<double>{x, y, z});
     summary.set("risk_max_depth_m", z);
     summary.set("risk_max_time_s", (worst.step + 1) * s.period / s.steps_per_cycle);
-    const std::size_t infinite_max = run.risk().infinite_risk_max_count();
+    const std::size_t infinite_max = run.infinite_risk_max_count();
     if (infinite_max > 0)
-      std::cerr << "fretsim: warning: " << infinite_max << " of " << run.risk().n_points()
+      std::cerr << "fretsim: warning: " << infinite_max << " of " << run.risk_max().size()
                 << " points reached beta - alpha sigma_H <= 0 (hydrostatic tension beyond the Dang Van line): "
                    "their risk is infinite in /fields/risk_max and left out of risk_max\n";
     summary.set("risk_infinite_points", static_cast<long long>(infinite_max));
+    summary.set("risk_mirrored", run.mirrored());
     summary.set("residual_stress_centre", s.residual_stress);
     if (!convergence)
       return;

@@ -44,8 +44,8 @@ namespace
     while (!run.finished())
       run.advance();
     std::vector<double> result(c.depth_layers.size(), 0.0);
-    for (std::size_t point = 0; point < run.risk().risk_max().size(); ++point)
-      result[point / grid.size()] = std::max(result[point / grid.size()], run.risk().risk_max()[point]);
+    for (std::size_t point = 0; point < run.risk_max().size(); ++point)
+      result[point / grid.size()] = std::max(result[point / grid.size()], run.risk_max()[point]);
     return result;
   }
 } // namespace

@@ -69,14 +69,30 @@ namespace fretsim::contact
     /// Memory the superposition may keep [bytes]: the stresses of every
     /// virgin level, (amplitude / level spacing + 2) x layers x 6 x cells
     /// doubles (52 levels at 200 steps a cycle: 200 MB at 128^2 with 5
-    /// layers, 800 MB at 256^2). Above it, a stress evaluation per step.
+    /// layers, 800 MB at 256^2; half of it on the rows y >= 0 of a mirrored
+    /// run). Above it, a stress evaluation per step.
     std::size_t superposition_budget = std::size_t(512) << 20;
+    /// true: where the history is mirror-symmetric about y = 0
+    /// (mirror_symmetric()), the Dang Van criterion runs on the rows y >= 0
+    /// only and its fields are mirrored back; false: on every point (the
+    /// reference).
+    bool mirror_symmetry = true;
 
     /// Hertz semi-axes (a_x, a_y) of the case [m].
     std::pair<double, double> hertz_semi_axes() const;
     /// Hertz peak pressure p0 [Pa].
     double hertz_peak_pressure() const;
   };
+
+  /// True if every stress tensor at (x, -y, z) is the mirror of that at
+  /// (x, y, z) (yz and xy change sign), so that the Dang Van risk is equal at
+  /// mirrored points: sliding along x (sin of the direction within round-off
+  /// of 0), no bulk xy stress, a grid whose rows are symmetric about y = 0,
+  /// a stress evaluator exact to round-off (fft or direct; the MLMI's
+  /// interpolation error need not be symmetric) and
+  /// FrettingCase::mirror_symmetry. The radii are those of x and y, so the
+  /// pressure is even in y, the traction tau_x even and tau_y odd.
+  bool mirror_symmetric(const FrettingCase &fretting_case, const SurfaceGrid &grid);
 
   /// The largest finite D over the points and counted steps, and where.
   struct RiskMaximum
@@ -139,9 +155,23 @@ namespace fretsim::contact
     /// superposed step; not to be called from two threads at once).
     const StressField             &stress() const;
     /// The criterion after the last step (its pending steps are run first;
-    /// not to be called from two threads at once, as stress()).
+    /// not to be called from two threads at once, as stress()). When
+    /// mirrored(), its points are those of the rows from mirror_first_row()
+    /// on; risk_now() and risk_max() are on every point.
     const DangVanField            &risk() const;
+    /// D(t) of the last step on every point, p = (layer ny + j) nx + i [-].
+    const std::vector<double>     &risk_now() const;
+    /// D_max on every point, as risk_now() [-].
+    const std::vector<double>     &risk_max() const;
+    /// Points of risk_max() that are infinite.
+    std::size_t                    infinite_risk_max_count() const;
+    /// The first (on ties, the first in point order over every point).
     RiskMaximum                    risk_maximum() const;
+    /// True if the criterion runs on the half y >= 0 (mirror_symmetric()).
+    bool                           mirrored() const { return mirror_row > 0; }
+    /// First grid row the criterion runs on: ny / 2 when mirrored (the middle
+    /// row included for odd ny), else 0.
+    int                            mirror_first_row() const { return mirror_row; }
     const SubsurfaceStress        &stress_evaluator() const { return *stresses; }
     const FrettingStageTimes      &stage_times() const;
     long                           traction_iterations() const { return iterations_total; }
@@ -160,14 +190,22 @@ namespace fretsim::contact
     /// recipe (see the class), summed block by block as the criterion reads
     /// them, with the von Mises maximum.
     void run_pending_steps() const;
+    /// Points a layer of the superposition's parts: the criterion's rows.
+    std::size_t superposed_plane() const;
+    /// The rows from mirror_row on of `full` (every row if not mirrored),
+    /// layer by layer and component by component, into `out`.
+    void superposed_part(const StressField &full, double *out) const;
+    void superposed_part(const StressField &full, std::vector<double> &out) const;
+    /// `half` (the criterion's points) mirrored onto every point into `full`.
+    void mirror_onto(const std::vector<double> &half, std::vector<double> &full) const;
     /// The bulk stress on each layer at the current time (Voigt).
     std::vector<std::array<double, stress_component_count>> bulk_parts() const;
-    /// The stresses of virgin level k (total_stress's layout), evaluated on
+    /// The stresses of virgin level k (superposed_part), evaluated on
     /// first use.
     const double *level_stresses(std::size_t level);
     /// out = S(p) + S(tau_r) + f ((1 - w) S(T_l) + w S(T_u)) for `recipe`, the
-    /// pressure's stresses included (and kept so in reversal_stress).
-    void compose_shear(const MasingTraction::Composition &recipe, StressField &out);
+    /// pressure's stresses included (and kept so in reversal_stress), as superposed_part.
+    void compose_shear(const MasingTraction::Composition &recipe, std::vector<double> &out);
 
     FrettingCase                             setup;
     SurfaceGrid                              surface;
@@ -176,6 +214,9 @@ namespace fretsim::contact
     std::unique_ptr<SubsurfaceStress>        stresses;
     std::unique_ptr<TangentialTractionModel> traction_model;
     std::unique_ptr<DangVanField>            dang_van;
+    int                                      mirror_row = 0; ///< mirror_first_row()
+    mutable std::vector<double>              mirrored_now, mirrored_max; ///< risk_now(), risk_max() when mirrored
+    mutable std::int64_t                     mirrored_now_step = -1, mirrored_max_step = -1; ///< of the step they are of
     StressField                              pressure_stress, shear_stress;
     mutable StressField                      total_stress;
     mutable bool                             total_written = true; ///< false: stress() writes it
@@ -183,7 +224,8 @@ namespace fretsim::contact
     const MasingTraction                    *masing = nullptr; ///< set: superposed stresses
     struct LevelStore;
     std::unique_ptr<LevelStore>              virgin_stress;   ///< the levels' stresses
-    std::map<std::int64_t, StressField>      reversal_stress; ///< by reversal id, the pressure's included
+    std::map<std::int64_t, std::vector<double>> reversal_stress; ///< by reversal id, the pressure's included (superposed_part)
+    std::vector<double>                      pressure_part;   ///< superposed_part of pressure_stress
     /// A superposed step whose Dang Van step is still to run: its recipe and
     /// bulk stress per layer.
     struct PendingStep

@@ -586,30 +586,29 @@ namespace fretsim::contact
         }
   }
 
+  const std::vector<double> &FrettingRun::whole_field(const std::vector<double> &field, std::vector<double> &whole,
+                                                       std::int64_t &whole_step) const
+  {
+    if (!mirrored())
+      return field;
+    if (whole_step != dang_van->step_count())
+      {
+        mirror_onto(field, whole);
+        whole_step = dang_van->step_count();
+      }
+    return whole;
+  }
+
   const std::vector<double> &FrettingRun::risk_now() const
   {
     run_pending_steps();
-    if (!mirrored())
-      return dang_van->risk();
-    if (mirrored_now_step != dang_van->step_count())
-      {
-        mirror_onto(dang_van->risk(), mirrored_now);
-        mirrored_now_step = dang_van->step_count();
-      }
-    return mirrored_now;
+    return whole_field(dang_van->risk(), mirrored_now, mirrored_now_step);
   }
 
   const std::vector<double> &FrettingRun::risk_max() const
   {
     run_pending_steps();
-    if (!mirrored())
-      return dang_van->risk_max();
-    if (mirrored_max_step != dang_van->step_count())
-      {
-        mirror_onto(dang_van->risk_max(), mirrored_max);
-        mirrored_max_step = dang_van->step_count();
-      }
-    return mirrored_max;
+    return whole_field(dang_van->risk_max(), mirrored_max, mirrored_max_step);
   }
 
   std::size_t FrettingRun::infinite_risk_max_count() const

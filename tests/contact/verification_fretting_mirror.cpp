@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "reference/paper_fretting_case.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -19,20 +21,7 @@ namespace
 {
   FrettingCase paper_case()
   {
-    FrettingCase c;
-    c.materials            = {{200e9, 0.3}, {200e9, 0.3}};
-    c.radius_x = c.radius_y = 0.05;
-    c.normal_load          = 1250.0;
-    c.sliding_amplitude    = 2.241e-6;
-    c.cycles               = 2;
-    c.steps_per_cycle      = 40;
-    c.friction_coefficient = 0.53;
-    c.traction_model       = TractionModel::exact_masing;
-    c.exact.masing_level_spacing = c.sliding_amplitude / (0.25 * c.steps_per_cycle);
-    c.depth_layers         = {0.0, 3.75e-5, 1.5e-4, 3.6e-4};
-    c.dang_van             = DangVanConstants::from_fatigue_limits(690e6, 428e6);
-    c.stress_evaluator.measure_fft_plans = false;
-    c.exact.measure_fft_plans            = false;
+    FrettingCase c = fretsim::reference::paper_fretting_case(2);
     // The solvers' results are mirror-symmetric to about their tolerances
     // (their iterations treat mirrored points alike only up to round-off),
     // so the comparison solves close to round-off.

@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include "reference/paper_fretting_case.h"
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -18,20 +20,7 @@ namespace
 {
   FrettingCase paper_case()
   {
-    FrettingCase c;
-    c.materials            = {{200e9, 0.3}, {200e9, 0.3}};
-    c.radius_x = c.radius_y = 0.05;
-    c.normal_load          = 1250.0;
-    c.sliding_amplitude    = 2.241e-6;
-    c.cycles               = 3;
-    c.steps_per_cycle      = 40;
-    c.friction_coefficient = 0.53;
-    c.traction_model       = TractionModel::exact_masing;
-    c.exact.masing_level_spacing = c.sliding_amplitude / (0.25 * c.steps_per_cycle);
-    c.depth_layers         = {0.0, 3.75e-5, 1.5e-4, 3.6e-4};
-    c.dang_van             = DangVanConstants::from_fatigue_limits(690e6, 428e6);
-    c.stress_evaluator.measure_fft_plans = false;
-    c.exact.measure_fft_plans            = false;
+    FrettingCase c = fretsim::reference::paper_fretting_case(3);
     // Every point computed: the mirror (verification_fretting_mirror) would
     // put the solvers' asymmetry into the comparison.
     c.mirror_symmetry = false;

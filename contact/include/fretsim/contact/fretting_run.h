@@ -198,6 +198,10 @@ namespace fretsim::contact
     void superposed_part(const StressField &full, std::vector<double> &out) const;
     /// `half` (the criterion's points) mirrored onto every point into `full`.
     void mirror_onto(const std::vector<double> &half, std::vector<double> &full) const;
+    /// `field` on every point: itself, or mirrored into `whole` (kept while
+    /// `whole_step` is the criterion's step count).
+    const std::vector<double> &whole_field(const std::vector<double> &field, std::vector<double> &whole,
+                                           std::int64_t &whole_step) const;
     /// The bulk stress on each layer at the current time (Voigt).
     std::vector<std::array<double, stress_component_count>> bulk_parts() const;
     /// The stresses of virgin level k (superposed_part), evaluated on

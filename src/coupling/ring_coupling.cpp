@@ -63,10 +63,7 @@ namespace fretsim::coupling
         {
           const FootprintBlend blend = footprint_blend(footprint_loads, loads[b]);
           const auto           at    = [&](std::size_t cell) {
-            double value = 0.0;
-            for (std::size_t m = 0; m < blend.count; ++m)
-              value += blend.weights[m] * table[(blend.first + m) * cells + cell];
-            return value;
+            return blend.of([&](std::size_t f) { return table[f * cells + cell]; });
           };
           const double shift = std::remainder(angles[b] - column_angle, 2.0 * M_PI) / angle_step;
           for (int i = 0; i < nx; ++i)
@@ -845,10 +842,7 @@ namespace fretsim::coupling
             slope_q[f] = (a1 - a0) / spacing;
           }
         const auto blended = [](const FootprintBlend &b, const VectorXd &x) {
-          double sum = 0.0;
-          for (std::size_t m = 0; m < b.count; ++m)
-            sum += b.weights[m] * x[b.first + m];
-          return sum;
+          return b.of([&](std::size_t f) { return x[f]; });
         };
         const double c = std::cos(angles[j]), s = std::sin(angles[j]);
         const double deflection_rest = inner_displacement[0] * c + inner_displacement[1] * s - 0.5 * d.clearance +
@@ -867,6 +861,7 @@ namespace fretsim::coupling
             load = ball_load(d.stiffness, d.damping, deflection_rest - blended(blend, on_q),
                              rate_rest - blended(blend, on_v) - cage_speed * blended(blend, slope_q));
             const FootprintBlend next = footprint_blend(d.footprint_loads, load.load);
+            // The weights sum to one: the first two settle the third.
             if (F == 1 || (next.first == blend.first && std::abs(next.weights[0] - blend.weights[0]) <= 1e-12 &&
                            std::abs(next.weights[1] - blend.weights[1]) <= 1e-12))
               break;

@@ -73,6 +73,16 @@ namespace fretsim::coupling
     std::size_t           first = 0;
     std::size_t           count = 1;
     std::array<double, 3> weights{1.0, 0.0, 0.0};
+
+    /// Σ_m weights[m] value(first + m): a footprint-indexed quantity at the load.
+    template <class Value>
+    double of(Value value) const
+    {
+      double sum = 0.0;
+      for (std::size_t m = 0; m < count; ++m)
+        sum += weights[m] * value(first + m);
+      return sum;
+    }
   };
   FootprintBlend footprint_blend(const std::vector<double> &footprint_loads, double load);
 

@@ -7,8 +7,10 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <stdexcept>
+#include <type_traits>
 #include <string>
 
 namespace fretsim::coupling
@@ -65,7 +67,7 @@ namespace fretsim::coupling
     struct SensitivityColumns;
     /// (C_AA + I/k_n)⁻¹ rhs by Cholesky; false if the factorisation fails.
     bool direct_sensitivity(const std::vector<std::size_t> &loaded, const double *rhs, std::size_t columns,
-                            std::vector<double> &result) const;
+                            std::vector<double> &result);
     template <class Scalar>
     static bool factorise_and_solve(const Eigen::MatrixXd &operator_aa, const double *rhs, std::size_t columns,
                                     std::vector<double> &result);
@@ -616,7 +618,7 @@ namespace fretsim::coupling
   };
 
   bool LocalCompliance::Impl::direct_sensitivity(const std::vector<std::size_t> &loaded, const double *rhs,
-                                                 std::size_t columns, std::vector<double> &result) const
+                                                 std::size_t columns, std::vector<double> &result)
   {
     const auto     m = static_cast<Eigen::Index>(loaded.size());
     Eigen::MatrixXd operator_aa(m, m); // C_AA + I/k_n
@@ -631,9 +633,13 @@ namespace fretsim::coupling
           }
         operator_aa(b, b) += layer_compliance;
       }
-    // Single precision where it fails falls back to double.
-    return (single_precision && factorise_and_solve<float>(operator_aa, rhs, columns, result)) ||
-           factorise_and_solve<double>(operator_aa, rhs, columns, result);
+    // Single precision where it fails or is too ill-conditioned falls back to double.
+    if (single_precision && factorise_and_solve<float>(operator_aa, rhs, columns, result))
+      {
+        ++statistics.sensitivity_single_precision;
+        return true;
+      }
+    return factorise_and_solve<double>(operator_aa, rhs, columns, result);
   }
 
   template <class Scalar>
@@ -648,6 +654,13 @@ namespace fretsim::coupling
     // (LLT reads the lower triangle only, the one filled)
     const Eigen::LLT<Matrix> factor(operator_aa.template cast<Scalar>());
     if (factor.info() != Eigen::Success)
+      return false;
+    // The solution's relative error is about the condition times the
+    // precision's rounding: single precision only where that stays far
+    // below the 1e-2 Newton's matrix needs (the estimate costs O(m²)).
+    constexpr double largest_error = 1e-4;
+    if (std::is_same_v<Scalar, float> &&
+        !(std::numeric_limits<float>::epsilon() < largest_error * static_cast<double>(factor.rcond())))
       return false;
     Matrix solution = right.template cast<Scalar>();
     factor.solveInPlace(solution);
@@ -665,7 +678,7 @@ namespace fretsim::coupling
     // tabulated kernel and factored: the exact sensitivity, cheaper than
     // the conjugate gradients' columns. Without a half-space (a flexible
     // housing: the residual flexibilities and the layer alone) the operator
-    // is ill-conditioned, and the conjugate gradients' 1e-2 residual left
+    // can be ill-conditioned, and the conjugate gradients' 1e-2 residual left
     // errors of tens of per cent in Newton's matrix (docs/bearing.md).
     if (loaded.size() <= d.direct_cells && d.direct_sensitivity(loaded, rhs, columns, result))
       {

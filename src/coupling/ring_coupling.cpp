@@ -306,14 +306,15 @@ namespace fretsim::coupling
     // local_compliance_modulus), its last pressure (the next solve's start)
     // and approach, and this evaluation's structural penetration and rate.
     std::unique_ptr<LocalCompliance> local;
-    /// Newton's matrix from single precision factors and products (with a half-space).
-    bool single_precision_jacobian = false;
     contact::Field                   local_pressure, local_penetration, structural, structural_rate;
     /// The ring's residual flexibility: a ball's u_r per N at the column
     /// angle, and the balls' residual u_r at the loads last set [m].
     std::vector<double> residual_ball, footprint_loads;
     double              residual_column_angle = 0.0;
     contact::Field      ball_residual;
+    /// The coordinates that move the interface (not a body's fixed-interface
+    /// modes): the Jacobian's rows, sensitivity and products on these only.
+    std::vector<Eigen::Index> interface_columns;
 
     Impl(const ReducedRing &ring, const InterfaceSettings &s)
       : settings(s)
@@ -349,10 +350,10 @@ namespace fretsim::coupling
                                                       settings.half_space_completion_wavelength},
                                                     UniformCompliance{settings.housing_uniform_compliance});
           // Newton's matrix needs its pressure sensitivity to about 1 %:
-          // single precision gives 1e-6 where a half-space conditions it
-          // (without one the structural compliance alone is ill-conditioned).
-          single_precision_jacobian = settings.local_compliance_modulus > 0.0;
-          local->set_single_precision_factorisation(single_precision_jacobian);
+          // single precision gives 1e-6 where a half-space or the residual
+          // flexibility's half-space completion conditions the operator (the
+          // factorisation checks its condition and falls back to double).
+          local->set_single_precision_factorisation(true);
           for (auto *field : {&local_pressure, &local_penetration})
             field->assign(cells, 0.0);
         }
@@ -362,6 +363,13 @@ namespace fretsim::coupling
       residual_ball         = ring.residual_ball;
       footprint_loads       = ring.raceway_footprint_loads;
       residual_column_angle = ring.residual_column_angle;
+      for (std::size_t j = 0; j < n; ++j)
+        for (std::size_t r = 0; r < 3 * cells; ++r)
+          if (rows[r * n + j] != 0.0f)
+            {
+              interface_columns.push_back(static_cast<Eigen::Index>(j));
+              break;
+            }
     }
 
     void set_ball_loads(const std::vector<double> &angles, const std::vector<double> &loads)
@@ -574,22 +582,26 @@ namespace fretsim::coupling
     struct JacobianRows
     {
       RowMatrix normal, radial, tangential, slipped;
+      bool      single_precision = false; ///< the sensitivity's factorisation was
     };
 
     JacobianRows jacobian_rows(const std::vector<std::size_t> &active) const
     {
-      const auto m = static_cast<Eigen::Index>(active.size()), size = static_cast<Eigen::Index>(n);
+      const auto m = static_cast<Eigen::Index>(active.size()), size = static_cast<Eigen::Index>(interface_columns.size());
       // The implicit Euler law's ∂τ/∂ds is not symmetric: its tangential part
       // is the general product G_tᵀ (S_c G_t) (`slipped` the latter).
       JacobianRows rows_of{RowMatrix(m, size), RowMatrix(m, size), RowMatrix(2 * m, size),
                            RowMatrix(consistent ? 2 * m : 0, size)};
-      RowMatrix    g(3, size); // one cell's rows in double
+      RowMatrix    g(3, size); // one cell's rows in double, on the interface's coordinates
       for (Eigen::Index a = 0; a < m; ++a)
         {
           const std::size_t c = active[a];
           for (int component = 0; component < 3; ++component)
-            g.row(component) = Eigen::Map<const Eigen::Matrix<float, 1, Eigen::Dynamic>>(row(c, component), size)
-                                 .cast<double>();
+            {
+              const float *values = row(c, component);
+              for (Eigen::Index k = 0; k < size; ++k)
+                g(component, k) = values[interface_columns[k]];
+            }
           rows_of.radial.row(a) = g.row(0);
           rows_of.normal.row(a) = by_penetration[c].transpose() * g;
           if (consistent)
@@ -606,7 +618,9 @@ namespace fretsim::coupling
       if (local)
         { // ∂p_A/∂d0_A = (C_AA + I/k_n)⁻¹: the radial rows through it
           std::vector<double> sensitivity;
-          local->pressure_sensitivity(active, rows_of.radial.data(), n, sensitivity);
+          const std::size_t   single_before = local->statistics().sensitivity_single_precision;
+          local->pressure_sensitivity(active, rows_of.radial.data(), static_cast<std::size_t>(size), sensitivity);
+          rows_of.single_precision = local->statistics().sensitivity_single_precision > single_before;
           rows_of.radial = Eigen::Map<const RowMatrix>(sensitivity.data(), m, size);
         }
       return rows_of;
@@ -628,34 +642,45 @@ namespace fretsim::coupling
           active.push_back(c);
       if (active.empty())
         return; // (and Eigen's product blocking divides by a zero depth)
-      const auto            size    = static_cast<Eigen::Index>(n);
+      const auto            size    = static_cast<Eigen::Index>(interface_columns.size());
       const JacobianRows    rows_of = jacobian_rows(active);
-      // A Lᵀ R over the loaded cells; with the half-space in single
-      // precision, twice as fast, like its sensitivity (see the constructor).
+      // A Lᵀ R over the loaded cells; in single precision, twice as fast,
+      // where the sensitivity was (see the constructor).
       const auto product = [&](const RowMatrix &left, const RowMatrix &right) -> Eigen::MatrixXd {
-        if (!single_precision_jacobian)
+        if (!rows_of.single_precision)
           return cell_area * (left.transpose() * right);
         const Eigen::MatrixXf in_single = cell_area * (left.cast<float>().transpose() * right.cast<float>());
         return in_single.cast<double>();
       };
-      const Eigen::MatrixXd normal = product(rows_of.normal, rows_of.radial);
-      Eigen::Map<RowMatrix> dq(out.by_position, size, size), dv(out.by_velocity, size, size);
-      dq += normal;
+      Eigen::MatrixXd normal = product(rows_of.normal, rows_of.radial);
+      Eigen::MatrixXd by_position = normal;
       if (consistent)
-        dq -= product(rows_of.tangential, rows_of.slipped);
+        by_position -= product(rows_of.tangential, rows_of.slipped);
       else
         {
           Eigen::MatrixXd tangential = Eigen::MatrixXd::Zero(size, size);
           tangential.selfadjointView<Eigen::Lower>().rankUpdate(rows_of.tangential.transpose(), -cell_area);
-          dq += tangential.selfadjointView<Eigen::Lower>();
+          by_position += tangential.selfadjointView<Eigen::Lower>();
         }
-      dv += settings.normal_damping_time * normal;
-      subtract_band_damping(active, rows_of, dv);
+      subtract_band_damping(active, rows_of, normal);
+      add_on_interface_columns(by_position, 1.0, out.by_position);
+      add_on_interface_columns(normal, settings.normal_damping_time, out.by_velocity);
     }
 
-    /// dv -= τ_d N_b: the closure band's c_n g'' ḋ is in ∂p/∂d, not in ∂p/∂ḋ.
+    /// out[i][j] += scale × compact(k, l) at i, j the interface columns k, l.
+    void add_on_interface_columns(const Eigen::MatrixXd &compact, double scale, double *out) const
+    {
+      const auto size = static_cast<Eigen::Index>(interface_columns.size());
+      for (Eigen::Index k = 0; k < size; ++k)
+        for (Eigen::Index l = 0; l < size; ++l)
+          out[static_cast<std::size_t>(interface_columns[k]) * n + static_cast<std::size_t>(interface_columns[l])] +=
+            scale * compact(k, l);
+    }
+
+    /// N -= N_b for ∂f/∂q̇ = τ_d (N - N_b): the closure band's c_n g'' ḋ is
+    /// in ∂p/∂d, not in ∂p/∂ḋ.
     void subtract_band_damping(const std::vector<std::size_t> &active, const JacobianRows &rows_of,
-                               Eigen::Map<RowMatrix> &dv) const
+                               Eigen::MatrixXd &normal) const
     {
       std::vector<Eigen::Index> band;
       for (Eigen::Index a = 0; a < static_cast<Eigen::Index>(active.size()); ++a)
@@ -663,14 +688,14 @@ namespace fretsim::coupling
           band.push_back(a);
       if (band.empty())
         return;
-      const auto b = static_cast<Eigen::Index>(band.size()), size = static_cast<Eigen::Index>(n);
+      const auto b = static_cast<Eigen::Index>(band.size()), size = rows_of.normal.cols();
       RowMatrix  band_rows(b, size), band_radial(b, size);
       for (Eigen::Index k = 0; k < b; ++k)
         {
           band_rows.row(k)   = band_share[active[band[k]]] * rows_of.normal.row(band[k]);
           band_radial.row(k) = rows_of.radial.row(band[k]);
         }
-      dv -= (settings.normal_damping_time * cell_area) * (band_rows.transpose() * band_radial);
+      normal -= cell_area * (band_rows.transpose() * band_radial);
     }
   };
 

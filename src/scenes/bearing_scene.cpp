@@ -1038,6 +1038,8 @@ namespace fretsim::scenes
           local.set("jacobian_reuses", static_cast<long long>(stats.local_compliance.sensitivity_reuses));
           local.set("jacobian_factorisations",
                     static_cast<long long>(stats.local_compliance.sensitivity_factorisations));
+          local.set("jacobian_single_precision_factorisations",
+                    static_cast<long long>(stats.local_compliance.sensitivity_single_precision));
           summary.set_object("local_compliance_solver", local);
         }
       output::Summary stage_times;

@@ -624,6 +624,15 @@ TEST(LocalCompliance, TheSensitivityIsExactOnAnIllConditionedStructuralComplianc
   conjugate.set_direct_sensitivity_cells(0);
   conjugate.pressure_sensitivity(loaded, rows.data(), columns, iterative);
   EXPECT_EQ(conjugate.statistics().sensitivity_factorisations, 0u);
+  // Single precision asked for: its condition check (float's epsilon × the
+  // condition estimate > 1e-4) sends this operator to double.
+  std::vector<double> checked;
+  LocalCompliance     single(grid, 0.0, layer_stiffness, true, LocalCompliance::default_sensitivity_tolerance, table);
+  single.set_single_precision_factorisation(true);
+  single.pressure_sensitivity(loaded, rows.data(), columns, checked);
+  EXPECT_EQ(single.statistics().sensitivity_factorisations, 1u);
+  EXPECT_EQ(single.statistics().sensitivity_single_precision, 0u);
+  EXPECT_LT(error_of(checked), 1e-9);
   std::printf("condition %.3g: sensitivity error, factorised %.2g, conjugate gradients at 1e-2 %.2g\n", condition,
               error_of(direct), error_of(iterative));
   EXPECT_GT(condition, 1e3);
@@ -669,6 +678,7 @@ TEST(LocalCompliance, TheSinglePrecisionFactorisationIsWithinItsRoundingOnAHalfS
     std::vector<double> sensitivity;
     half_space.pressure_sensitivity(loaded, rows.data(), columns, sensitivity);
     EXPECT_EQ(half_space.statistics().sensitivity_factorisations, 1u);
+    EXPECT_EQ(half_space.statistics().sensitivity_single_precision, single ? 1u : 0u); // its condition passed
     return worst_column_error(sensitivity, exact);
   };
   const double in_double = error_of(false), in_single = error_of(true);

@@ -101,13 +101,14 @@ namespace fretsim::coupling
     /// Sets that limit (0: always conjugate gradients).
     void set_direct_sensitivity_cells(std::size_t cells);
 
-    /// Whether the factorisation (up to the direct limit) works in single
+    /// Whether the factorisation (up to the direct limit) may work in single
     /// precision: about twice as fast, its error about the operator's
     /// condition times float's epsilon (1e-6 on a half-space's contact
     /// patch of 300 cells, condition 23, against the 1e-2 Newton's matrix
-    /// needs); default double. Only for an operator as well conditioned as
-    /// one with a half-space: without one the structural compliance alone
-    /// is ill-conditioned. A factorisation that fails is redone in double.
+    /// needs); default double. A factorisation that fails, or whose
+    /// estimated condition times float's epsilon exceeds 1e-4 (a structural
+    /// compliance without a half-space or its completion can be
+    /// ill-conditioned), is redone in double.
     void set_single_precision_factorisation(bool single);
 
     /// (C_AA + I/k_n)⁻¹ R over the loaded cells A, i.e. ∂p_A/∂b_A applied to
@@ -127,6 +128,7 @@ namespace fretsim::coupling
       std::size_t sensitivities = 0, sensitivity_convolutions = 0;
       std::size_t sensitivity_reuses = 0; ///< sensitivities answered from the last one (loaded set within 2 %)
       std::size_t sensitivity_factorisations = 0; ///< sensitivities solved by a Cholesky factorisation
+      std::size_t sensitivity_single_precision = 0; ///< of those, in single precision
     };
     const Statistics &statistics() const;
 

@@ -159,6 +159,88 @@ TEST(InterfaceTransfer, AnalyticJacobianMatchesFiniteDifferencesWithStickSlipAnd
   }
 }
 
+TEST(InterfaceTransfer, CoordinatesThatDoNotMoveTheInterfaceStayOutOfItsJacobian)
+{
+  // A body's fixed-interface modes do not move the interface: the Jacobian is
+  // formed on the other coordinates and placed back. The ring of five
+  // coordinates with two such added (second and last) must give the same
+  // forces and derivatives at their places, zeros in their rows and columns.
+  const std::size_t n = 5, wide = 7;
+  const std::vector<std::size_t> place{0, 2, 3, 4, 5}; // of the five in the wide ring
+  const auto        ring = synthetic::random_ring(n, 36, 3, 7);
+  ReducedRing       widened = ring;
+  widened.n                 = wide;
+  widened.mass.assign(wide * wide, 0.0);
+  widened.stiffness.assign(wide * wide, 0.0);
+  for (std::size_t j = 0; j < wide; ++j)
+    {
+      widened.mass[j * wide + j]      = 0.2;
+      widened.stiffness[j * wide + j] = 1e8 * (j + 1);
+    }
+  for (auto *values : {&widened.interface_displacement, &widened.raceway_approach})
+    {
+      const std::vector<double> &narrow = values == &widened.interface_displacement ? ring.interface_displacement
+                                                                                      : ring.raceway_approach;
+      const std::size_t          rows   = narrow.size() / n;
+      values->assign(rows * wide, 0.0);
+      for (std::size_t r = 0; r < rows; ++r)
+        for (std::size_t j = 0; j < n; ++j)
+          (*values)[r * wide + place[j]] = narrow[r * n + j];
+    }
+  InterfaceSettings settings;
+  settings.normal_stiffness     = 1e15;
+  settings.tangential_stiffness = 2e15;
+  settings.normal_damping_time  = 1e-6;
+  InterfaceContact narrow_contact(ring, settings), wide_contact(widened, settings);
+  const auto       q0 = mixed_state(n, 11, 1e-9), v0 = mixed_state(n, 12, 1e-6);
+  std::vector<double> wide_q(wide, 3e-9), wide_v(wide, 1e-6); // the two extra coordinates move nothing
+  for (std::size_t j = 0; j < n; ++j)
+    {
+      wide_q[place[j]] = q0[j];
+      wide_v[place[j]] = v0[j];
+    }
+  narrow_contact.accept(q0.data(), v0.data());
+  wide_contact.accept(wide_q.data(), wide_v.data());
+  auto q = q0;
+  for (std::size_t j = 0; j < n; ++j)
+    {
+      q[j] += 0.02e-9 * std::cos(3.0 * j);
+      wide_q[place[j]] = q[j];
+    }
+  std::vector<double> f(n, 0.0), dq(n * n, 0.0), dv(n * n, 0.0);
+  std::vector<double> wide_f(wide, 0.0), wide_dq(wide * wide, 0.0), wide_dv(wide * wide, 0.0);
+  narrow_contact.add_forces(q.data(), v0.data(), {f.data(), dq.data(), dv.data()});
+  wide_contact.add_forces(wide_q.data(), wide_v.data(), {wide_f.data(), wide_dq.data(), wide_dv.data()});
+  const auto largest_of = [](const std::vector<double> &values) {
+    double largest = 0.0;
+    for (const double value : values)
+      largest = std::max(largest, std::abs(value));
+    return largest;
+  };
+  const double largest_f = largest_of(f), largest_dq = largest_of(dq), largest_dv = largest_of(dv);
+  double       worst = 0.0, outside = 0.0;
+  std::vector<bool> moves(wide, false);
+  for (const std::size_t j : place)
+    moves[j] = true;
+  for (std::size_t i = 0; i < wide; ++i)
+    for (std::size_t j = 0; j < wide; ++j)
+      if (!moves[i] || !moves[j])
+        outside = std::max({outside, std::abs(wide_dq[i * wide + j]), std::abs(wide_dv[i * wide + j])});
+  for (std::size_t i = 0; i < n; ++i)
+    {
+      worst = std::max(worst, std::abs(wide_f[place[i]] - f[i]) / largest_f);
+      for (std::size_t j = 0; j < n; ++j)
+        worst = std::max({worst, std::abs(wide_dq[place[i] * wide + place[j]] - dq[i * n + j]) / largest_dq,
+                          std::abs(wide_dv[place[i] * wide + place[j]] - dv[i * n + j]) / largest_dv});
+    }
+  ASSERT_GT(largest_dq * largest_dv, 0.0);
+  EXPECT_EQ(outside, 0.0);
+  // The same sums over the same loaded cells, in another order: equal to
+  // rounding, relative to each quantity's largest entry.
+  EXPECT_LT(worst, 1e-12);
+  std::printf("largest difference %.2g of the largest entry\n", worst);
+}
+
 TEST(InterfaceTransfer, InStepBristleUpdateIsTheContactModulesBristleTraction)
 {
   // accept() after a step must leave exactly what BristleTraction::advance

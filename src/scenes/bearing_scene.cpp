@@ -741,9 +741,12 @@ namespace fretsim::scenes
       results->declare_field("shear_x", "Pa", field);
       results->declare_field("shear_y", "Pa", field);
       results->declare_field("effective_friction", "1", field);
-      results->declare_field("risk", "1", {s.depth_layers.size(), field[0], field[1]});
+      // The ring's stresses and risk are dense: deflate took 2.4 s of a
+      // 22.5 s run for 35 % off the file.
+      results->declare_field("risk", "1", {s.depth_layers.size(), field[0], field[1]}, false);
       results->declare_field("stress", "Pa",
-                             {s.depth_layers.size(), std::size_t(contact::stress_component_count), field[0], field[1]});
+                             {s.depth_layers.size(), std::size_t(contact::stress_component_count), field[0], field[1]},
+                             false);
       results->declare_field("ball_angle", "rad", {s.run.bearing.ball_count});
       results->declare_field("ball_load", "N", {s.run.bearing.ball_count});
       results->declare_field("modal_coordinates", "1", {ring.n});

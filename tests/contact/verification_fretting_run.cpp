@@ -84,9 +84,12 @@ namespace
 // Stresses are linear in the traction, so composing them as the traction is
 // composed changes only the rounding: per value a few additions and the FFT
 // evaluator's round-off of each part, ~1e-16 of the largest stress each.
-// Measured at most 2.9e-16 of the largest stress and 1.3e-15 in D (D ~ 0.7)
-// over the two tests; tolerances 1e-14 for both, with a sliding along x and
-// one at an angle (both traction components), and a bulk stress on top.
+// Measured at most 2.6e-16 of the largest stress over the two tests, and up
+// to 1.1e-14 in D (D ~ 0.7): where two principal values lie close the Dang
+// Van step's closed form keeps 40 eps (unit_dang_van), so D amplifies the
+// stresses' round-off, by how much depending on the traction's last digits.
+// Tolerances 1e-14 for the stresses and 3e-14 for D, with a sliding along x
+// and one at an angle (both traction components), and a bulk stress on top.
 TEST(FrettingRunSuperposition, EqualsAStressEvaluationPerStep)
 {
   for (const double direction : {0.0, 0.6})
@@ -97,7 +100,7 @@ TEST(FrettingRunSuperposition, EqualsAStressEvaluationPerStep)
       c.bulk_stress.amplitude_surface[2] = 5e7;
       const Comparison result = superposed_against_reference(c, fretting_grid(c, 24, 24, 1.5));
       EXPECT_LT(result.difference.stress, 1e-14) << direction;
-      EXPECT_LT(result.difference.risk, 1e-14) << direction;
+      EXPECT_LT(result.difference.risk, 3e-14) << direction;
       const RiskMaximum &a = result.superposed, &b = result.reference;
       EXPECT_NEAR(a.value, b.value, 1e-14 * b.value) << direction;
       EXPECT_EQ(a.step, b.step);

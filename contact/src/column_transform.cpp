@@ -9,11 +9,10 @@
 namespace fretsim::contact::detail
 {
   ColumnTransform::ColumnTransform(int rows, int columns_, int blocks_, std::ptrdiff_t block_distance_,
-                                   fftw_complex *data_, bool measure_plans)
+                                   fftw_complex *scratch, bool measure_plans)
     : columns(columns_)
     , blocks(blocks_)
     , block_distance(block_distance_)
-    , data(data_)
   {
     if (rows <= 0 || columns <= 0 || blocks <= 0)
       throw std::invalid_argument("ColumnTransform: empty blocks");
@@ -44,10 +43,10 @@ namespace fretsim::contact::detail
     const unsigned flags = measure_plans ? FFTW_MEASURE : FFTW_ESTIMATE;
     if (!measure_plans)
       forget_planner_history();
-    first_forward  = fftw_plan_guru_dft(1, &first, 3, first_loops, data, data, FFTW_FORWARD, flags);
-    second_forward = fftw_plan_guru_dft(1, &second, 3, second_loops, data, data, FFTW_FORWARD, flags);
-    second_inverse = fftw_plan_guru_dft(1, &second, 3, second_loops, data, data, FFTW_BACKWARD, flags);
-    first_inverse  = fftw_plan_guru_dft(1, &first, 3, first_loops, data, data, FFTW_BACKWARD, flags);
+    first_forward  = fftw_plan_guru_dft(1, &first, 3, first_loops, scratch, scratch, FFTW_FORWARD, flags);
+    second_forward = fftw_plan_guru_dft(1, &second, 3, second_loops, scratch, scratch, FFTW_FORWARD, flags);
+    second_inverse = fftw_plan_guru_dft(1, &second, 3, second_loops, scratch, scratch, FFTW_BACKWARD, flags);
+    first_inverse  = fftw_plan_guru_dft(1, &first, 3, first_loops, scratch, scratch, FFTW_BACKWARD, flags);
     if (!first_forward || !second_forward || !second_inverse || !first_inverse)
       {
         for (fftw_plan plan : {first_forward, second_forward, second_inverse, first_inverse})
@@ -64,7 +63,7 @@ namespace fretsim::contact::detail
       fftw_destroy_plan(plan);
   }
 
-  void ColumnTransform::scale_rows(double sign) const
+  void ColumnTransform::scale_rows(fftw_complex *data, double sign) const
   {
     const int rows = n1 * n2;
     for (int block = 0; block < blocks; ++block)
@@ -83,17 +82,17 @@ namespace fretsim::contact::detail
         }
   }
 
-  void ColumnTransform::forward() const
+  void ColumnTransform::forward(fftw_complex *data) const
   {
-    fftw_execute(first_forward);
-    scale_rows(1.0);
-    fftw_execute(second_forward);
+    fftw_execute_dft(first_forward, data, data);
+    scale_rows(data, 1.0);
+    fftw_execute_dft(second_forward, data, data);
   }
 
-  void ColumnTransform::inverse() const
+  void ColumnTransform::inverse(fftw_complex *data) const
   {
-    fftw_execute(second_inverse);
-    scale_rows(-1.0);
-    fftw_execute(first_inverse);
+    fftw_execute_dft(second_inverse, data, data);
+    scale_rows(data, -1.0);
+    fftw_execute_dft(first_inverse, data, data);
   }
 } // namespace fretsim::contact::detail

@@ -25,28 +25,28 @@ namespace fretsim::contact::detail
   {
   public:
     /// In place on `blocks` blocks of rows x columns complex values, row
-    /// major, `block_distance` complex values apart, starting at `data`
-    /// (which FFTW_MEASURE overwrites while planning). Takes the planner lock.
-    ColumnTransform(int rows, int columns, int blocks, std::ptrdiff_t block_distance, fftw_complex *data,
+    /// major, `block_distance` complex values apart; planned on `scratch`
+    /// (which FFTW_MEASURE overwrites). Takes the planner lock.
+    ColumnTransform(int rows, int columns, int blocks, std::ptrdiff_t block_distance, fftw_complex *scratch,
                     bool measure_plans);
     ~ColumnTransform();
     ColumnTransform(const ColumnTransform &)            = delete;
     ColumnTransform &operator=(const ColumnTransform &) = delete;
 
-    /// On the array given to the constructor: natural row order in, the
-    /// rows in the order of frequency_of_row out.
-    void forward() const;
+    /// On `data` (laid out as the scratch array, from fftw_malloc like it):
+    /// natural row order in, the rows in the order of frequency_of_row out.
+    /// Thread safe.
+    void forward(fftw_complex *data) const;
     /// The inverse (unnormalised) of forward(): its row order in, natural out.
-    void inverse() const;
+    void inverse(fftw_complex *data) const;
     /// The frequency (0..rows-1) that forward() leaves in row `row`.
     int frequency_of_row(int row) const { return row / n2 + n1 * (row % n2); }
 
   private:
-    void scale_rows(double sign) const;
+    void scale_rows(fftw_complex *data, double sign) const;
 
     int               n1 = 1, n2 = 1, columns = 0, blocks = 0;
     std::ptrdiff_t    block_distance = 0;
-    fftw_complex     *data           = nullptr;
     fftw_plan         first_forward = nullptr, second_forward = nullptr;
     fftw_plan         second_inverse = nullptr, first_inverse = nullptr;
     /// exp(-2 pi i k1 j2 / n) for row n2 k1 + j2.

@@ -200,7 +200,7 @@ namespace fretsim::contact::detail
         fftw_execute_dft_r2c(b.rows_forward, real, spectrum);
         std::fill_n(&spectrum[zero_at][0], 2 * (b.spectrum_size - zero_at), 0.0);
       }
-    b.columns->forward();
+    b.columns->forward(b.spectra.get());
     const double *kxx = b.kernel_xx.data(), *kxy = b.kernel_xy.data(), *kyy = b.kernel_yy.data();
     for (std::size_t n = 0; n < b.spectrum_size; ++n)
       {
@@ -210,7 +210,7 @@ namespace fretsim::contact::detail
         sy[n][0] = kxy[n] * tx_re + kyy[n] * ty_re;
         sy[n][1] = kxy[n] * tx_im + kyy[n] * ty_im;
       }
-    b.columns->inverse();
+    b.columns->inverse(b.spectra.get());
     for (fftw_complex *spectrum : {sx, sy})
       {
         double *real = spectrum == sx ? b.real_x.get() : b.real_y.get();

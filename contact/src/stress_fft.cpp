@@ -257,6 +257,9 @@ namespace fretsim::contact
       /// sum = sum over the N loads of (kernel spectrum) x (load spectrum), in
       /// one pass so the accumulator is written once (memory bound).
       template <int N>
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+      __attribute__((target_clones("avx2", "default")))
+#endif
       void spectral_sum(const double *const *kernel, const fftw_complex *const *load, const double *sign_real,
                         const double *sign_imag, const double *mirror_sign, fftw_complex *sum) const
       {

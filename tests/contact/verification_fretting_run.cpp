@@ -11,7 +11,9 @@
 #include "reference/paper_fretting_case.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <thread>
 #include <vector>
 
 using namespace fretsim::contact;
@@ -211,4 +213,33 @@ TEST(FrettingRunSuperposition, EstimatedPlansRepeatAndAgreeWithMeasuredOnes)
   c.stress_evaluator.measure_fft_plans = true;
   const double measured = fretting_risk_maximum(c, grid).value;
   EXPECT_NEAR(measured, estimated, 1e-6 * estimated);
+}
+
+// The scene lets the error estimate's thread evaluate the history's level
+// stresses (FrettingRun::defer_level_stresses): a helper thread taking them
+// while the run solves its levels gives the same risk field bit for bit.
+TEST(FrettingRunSuperposition, DeferredLevelStressesOnAnotherThreadGiveTheSameRisk)
+{
+  FrettingCase      c    = paper_case();
+  c.cycles               = 1;
+  const SurfaceGrid grid = fretting_grid(c, 32, 32, 1.5);
+  FrettingRun       alone(c, grid);
+  while (!alone.finished())
+    alone.advance();
+
+  FrettingRun deferred(c, grid);
+  deferred.defer_level_stresses(true);
+  std::atomic<bool> stop{false};
+  std::thread       helper([&] {
+    omp_set_num_threads(1);
+    while (!stop)
+      deferred.help_with_level_stresses();
+  });
+  while (!deferred.finished())
+    deferred.advance();
+  const std::vector<double> risk = deferred.risk_max();
+  stop = true;
+  helper.join();
+  EXPECT_EQ(risk, alone.risk_max());
+  EXPECT_EQ(deferred.risk_maximum().value, alone.risk_maximum().value);
 }

@@ -582,8 +582,9 @@ namespace fretsim::contact
   {
     if (pending.empty())
       return;
-    const auto                     start = Clock::now();
-    const std::vector<PendingStep> steps = std::move(pending);
+    // Waiting for (or evaluating) levels still queued counts as stresses.
+    const auto                     levels_start = Clock::now();
+    const std::vector<PendingStep> steps        = std::move(pending);
     pending.clear();
     std::vector<StressParts> parts(steps.size());
     for (std::size_t k = 0; k < steps.size(); ++k)
@@ -597,6 +598,8 @@ namespace fretsim::contact
         part.factor   = recipe.factor;
         part.weight   = recipe.weight;
       }
+    times.stresses += seconds_since(levels_start);
+    const auto start = Clock::now();
     // Mirrored, the criterion's points and the parts are the rows from
     // mirror_row on, and the von Mises maximum over them is that over every
     // point.

@@ -8,10 +8,13 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstdlib>
 #include <limits>
+#include <mutex>
 #include <new>
 #include <type_traits>
+#include <utility>
 
 #if __has_include(<sys/mman.h>)
 #include <sys/mman.h>
@@ -275,19 +278,34 @@ namespace fretsim::contact
     {
       void operator()(double *pointer) const { std::free(pointer); }
     };
+    /// A level's evaluation: not asked for, queued (defer_level_stresses),
+    /// taken by a thread, done.
+    enum class State : unsigned char
+    {
+      none,
+      queued,
+      taken,
+      ready
+    };
     std::unique_ptr<double, Free>      block;
     std::size_t                        field_size = 0, capacity = 0;
-    std::vector<char>                  ready;
     std::map<std::size_t, std::vector<double>> beyond;
-    StressField                        scratch;
+    StressField                        scratch;        ///< the run's own thread's
+    StressField                        helper_scratch; ///< help_with_level_stresses()'s, under `helping`
 
-    /// A level already evaluated.
-    const double *level(std::size_t k) const
-    {
-      return k < capacity ? block.get() + k * field_size : beyond.at(k).data();
-    }
+    std::mutex                         mutex; ///< guards state, queued, deferred_seconds
+    std::condition_variable            done;  ///< a taken level is ready
+    std::vector<State>                 state;
+    /// Queued levels with their tractions, copied: the traction model's table
+    /// may move them while another thread evaluates.
+    std::map<std::size_t, std::pair<Field, Field>> queued;
+    double                             deferred_seconds = 0.0; ///< evaluations on other threads
+    std::mutex                         helping;    ///< one helper at a time
+    std::mutex                         evaluating; ///< one evaluation at a time (the evaluator's buffers)
 
-    LevelStore(std::size_t levels, std::size_t values) : field_size(values), capacity(levels), ready(levels, 0)
+    double *at(std::size_t k) const { return block.get() + k * field_size; }
+
+    LevelStore(std::size_t levels, std::size_t values) : field_size(values), capacity(levels), state(levels, State::none)
     {
       constexpr std::size_t huge  = std::size_t(2) << 20;
       const std::size_t     bytes = (levels * values * sizeof(double) + huge - 1) / huge * huge;
@@ -300,6 +318,76 @@ namespace fretsim::contact
     }
   };
 
+  void FrettingRun::evaluate_level(std::size_t level, const Field &tau_x, const Field &tau_y,
+                                   StressField &scratch) const
+  {
+    LevelStore                 &store = *virgin_stress;
+    std::lock_guard<std::mutex> lock(store.evaluating);
+    stresses->evaluate(no_load, tau_x, tau_y, scratch);
+    superposed_part(scratch, store.at(level));
+  }
+
+  const double *FrettingRun::ready_level(std::size_t level) const
+  {
+    LevelStore &store = *virgin_stress;
+    if (level >= store.capacity)
+      return store.beyond.at(level).data();
+    std::unique_lock<std::mutex> lock(store.mutex);
+    if (store.state[level] == LevelStore::State::queued)
+      {
+        // Not taken yet: evaluated here.
+        auto tractions = std::move(store.queued.at(level));
+        store.queued.erase(level);
+        store.state[level] = LevelStore::State::taken;
+        lock.unlock();
+        evaluate_level(level, tractions.first, tractions.second, store.scratch);
+        lock.lock();
+        store.state[level] = LevelStore::State::ready;
+      }
+    else if (store.state[level] == LevelStore::State::none)
+      {
+        store.state[level] = LevelStore::State::taken;
+        lock.unlock();
+        evaluate_level(level, masing->virgin_level_x(level), masing->virgin_level_y(level), store.scratch);
+        lock.lock();
+        store.state[level] = LevelStore::State::ready;
+      }
+    store.done.wait(lock, [&] { return store.state[level] == LevelStore::State::ready; });
+    return store.at(level);
+  }
+
+  void FrettingRun::help_with_level_stresses() const
+  {
+    if (!virgin_stress)
+      return;
+    LevelStore                  &store = *virgin_stress;
+    std::unique_lock<std::mutex> helping(store.helping, std::try_to_lock);
+    if (!helping.owns_lock())
+      return;
+    for (;;)
+      {
+        std::size_t                level;
+        std::pair<Field, Field>    tractions;
+        {
+          std::lock_guard<std::mutex> lock(store.mutex);
+          if (store.queued.empty())
+            return;
+          level     = store.queued.begin()->first;
+          tractions = std::move(store.queued.begin()->second);
+          store.queued.erase(store.queued.begin());
+          store.state[level] = LevelStore::State::taken;
+        }
+        const auto start = Clock::now();
+        evaluate_level(level, tractions.first, tractions.second, store.helper_scratch);
+        {
+          std::lock_guard<std::mutex> lock(store.mutex);
+          store.state[level] = LevelStore::State::ready;
+          store.deferred_seconds += seconds_since(start);
+        }
+        store.done.notify_all();
+      }
+  }
+
   const double *FrettingRun::level_stresses(std::size_t level)
   {
     LevelStore &store = *virgin_stress;
@@ -308,20 +396,29 @@ namespace fretsim::contact
         std::vector<double> &field = store.beyond[level];
         if (field.empty())
           {
+            std::lock_guard<std::mutex> lock(store.evaluating);
             stresses->evaluate(no_load, masing->virgin_level_x(level), masing->virgin_level_y(level), store.scratch);
             field.resize(store.field_size);
             superposed_part(store.scratch, field.data());
           }
         return field.data();
       }
-    double *field = store.block.get() + level * store.field_size;
-    if (!store.ready[level])
-      {
-        stresses->evaluate(no_load, masing->virgin_level_x(level), masing->virgin_level_y(level), store.scratch);
-        superposed_part(store.scratch, field);
-        store.ready[level] = 1;
-      }
-    return field;
+    {
+      std::lock_guard<std::mutex> lock(store.mutex);
+      if (store.state[level] != LevelStore::State::none)
+        return store.state[level] == LevelStore::State::ready ? store.at(level) : nullptr;
+      if (level_stresses_deferred)
+        {
+          store.queued[level] = {masing->virgin_level_x(level), masing->virgin_level_y(level)};
+          store.state[level]  = LevelStore::State::queued;
+          return nullptr;
+        }
+      store.state[level] = LevelStore::State::taken;
+    }
+    evaluate_level(level, masing->virgin_level_x(level), masing->virgin_level_y(level), store.scratch);
+    std::lock_guard<std::mutex> lock(store.mutex);
+    store.state[level] = LevelStore::State::ready;
+    return store.at(level);
   }
 
   std::size_t FrettingRun::superposed_plane() const
@@ -344,8 +441,10 @@ namespace fretsim::contact
 
   void FrettingRun::compose_shear(const MasingTraction::Composition &recipe, std::vector<double> &out)
   {
-    const double *lower = level_stresses(recipe.lower);
-    const double *upper = level_stresses(recipe.upper);
+    level_stresses(recipe.lower);
+    level_stresses(recipe.upper);
+    const double *lower = ready_level(recipe.lower);
+    const double *upper = ready_level(recipe.upper);
     const double *base  = recipe.reversal >= 0 ? reversal_stress.at(recipe.reversal).data() : pressure_part.data();
     out.resize(pressure_part.size());
     double           *result = out.data();
@@ -483,8 +582,9 @@ namespace fretsim::contact
   {
     if (pending.empty())
       return;
-    const auto                     start = Clock::now();
-    const std::vector<PendingStep> steps = std::move(pending);
+    // Waiting for (or evaluating) levels still queued counts as stresses.
+    const auto                     levels_start = Clock::now();
+    const std::vector<PendingStep> steps        = std::move(pending);
     pending.clear();
     std::vector<StressParts> parts(steps.size());
     for (std::size_t k = 0; k < steps.size(); ++k)
@@ -492,12 +592,14 @@ namespace fretsim::contact
         const MasingTraction::Composition &recipe = steps[k].recipe;
         StressParts                       &part   = parts[k];
         part.pressure = pressure_part.data();
-        part.lower    = virgin_stress->level(recipe.lower);
-        part.upper    = virgin_stress->level(recipe.upper);
+        part.lower    = ready_level(recipe.lower);
+        part.upper    = ready_level(recipe.upper);
         part.base     = recipe.reversal >= 0 ? reversal_stress.at(recipe.reversal).data() : part.pressure;
         part.factor   = recipe.factor;
         part.weight   = recipe.weight;
       }
+    times.stresses += seconds_since(levels_start);
+    const auto start = Clock::now();
     // Mirrored, the criterion's points and the parts are the rows from
     // mirror_row on, and the von Mises maximum over them is that over every
     // point.
@@ -526,6 +628,13 @@ namespace fretsim::contact
   const FrettingStageTimes &FrettingRun::stage_times() const
   {
     run_pending_steps();
+    if (virgin_stress)
+      {
+        // The levels' evaluations on other threads count as stresses too.
+        std::lock_guard<std::mutex> lock(virgin_stress->mutex);
+        times.stresses += virgin_stress->deferred_seconds;
+        virgin_stress->deferred_seconds = 0.0;
+      }
     return times;
   }
 
@@ -544,8 +653,8 @@ namespace fretsim::contact
         // images (yz and xy change sign).
         StressParts parts;
         parts.pressure = pressure_part.data();
-        parts.lower    = virgin_stress->level(total_recipe.lower);
-        parts.upper    = virgin_stress->level(total_recipe.upper);
+        parts.lower    = ready_level(total_recipe.lower);
+        parts.upper    = ready_level(total_recipe.upper);
         parts.base = total_recipe.reversal >= 0 ? reversal_stress.at(total_recipe.reversal).data() : parts.pressure;
         parts.factor = total_recipe.factor;
         parts.weight = total_recipe.weight;

@@ -18,6 +18,7 @@
 // 8 layers. Layers whose spectra do not fit the cache budget (default
 // 512 MiB: 16 layers at 512^2) are recomputed on every call (same result,
 // slower), so memory stays bounded.
+#include "column_transform.h"
 #include "fftw_planner.h"
 
 #include <fretsim/contact/subsurface_stress.h>
@@ -28,6 +29,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <memory>
 #include <mutex>
 #include <stdexcept>
 
@@ -111,20 +113,20 @@ namespace fretsim::contact
           // ny rows of length mx -> ny rows of cx (the other my - ny rows are zero) ...
           rows_forward = fftw_plan_many_dft_r2c(1, &mx, ny, real.data, nullptr, 1, mx, spectrum.data, nullptr, 1, cx,
                                                 flags);
-          // ... then cx columns of length my, in place.
-          columns_forward = fftw_plan_many_dft(1, &my, cx, spectrum.data, nullptr, cx, 1, spectrum.data, nullptr, cx, 1,
-                                               FFTW_FORWARD, flags);
-          columns_inverse = fftw_plan_many_dft(1, &my, cx, spectrum.data, nullptr, cx, 1, spectrum.data, nullptr, cx, 1,
-                                               FFTW_BACKWARD, flags);
+          // ... then cx columns of length my, in place (columns, below).
           // Only rows 0..ny-1 of the result are kept.
           rows_inverse = fftw_plan_many_dft_c2r(1, &mx, ny, spectrum.data, nullptr, 1, cx, real.data, nullptr, 1, mx,
                                                 flags);
         }
-        if (!kernel_forward || !rows_forward || !columns_forward || !columns_inverse || !rows_inverse)
+        if (!kernel_forward || !rows_forward || !rows_inverse)
           {
             destroy_plans();
             throw std::runtime_error("DC-FFT stress: FFTW could not plan the transforms");
           }
+        {
+          FftwArray<fftw_complex> spectrum(complex_size);
+          columns = std::make_unique<detail::ColumnTransform>(my, cx, 1, 0, spectrum.data, measure_plans);
+        }
 
         const std::size_t per_layer = distinct_kernels * quarter;
         cached_layers = static_cast<int>(std::min<std::size_t>(depths.size(), spectrum_budget_bytes / (per_layer * sizeof(double))));
@@ -175,7 +177,7 @@ namespace fretsim::contact
             fftw_complex *spectrum = load_spectrum[l].data;
             fftw_execute_dft_r2c(rows_forward, in, spectrum);
             std::fill_n(&spectrum[static_cast<std::size_t>(ny) * cx][0], 2 * static_cast<std::size_t>(my - ny) * cx, 0.0);
-            fftw_execute_dft(columns_forward, spectrum, spectrum);
+            columns->forward(spectrum);
           }
 
         const std::size_t per_layer = distinct_kernels * quarter;
@@ -208,7 +210,7 @@ namespace fretsim::contact
       void destroy_plans()
       {
         std::lock_guard<std::mutex> lock(detail::fftw_planner_mutex());
-        for (fftw_plan *plan : {&kernel_forward, &rows_forward, &columns_forward, &columns_inverse, &rows_inverse})
+        for (fftw_plan *plan : {&kernel_forward, &rows_forward, &rows_inverse})
           if (*plan)
             {
               fftw_destroy_plan(*plan);
@@ -245,7 +247,7 @@ namespace fretsim::contact
             case 2: spectral_sum<2>(kernel, load, sign_real, sign_imag, mirror_sign, sum); break;
             default: spectral_sum<3>(kernel, load, sign_real, sign_imag, mirror_sign, sum); break;
           }
-        fftw_execute_dft(columns_inverse, sum, sum);
+        columns->inverse(sum);
         fftw_execute_dft_c2r(rows_inverse, sum, real);
         const int nx = grid.nx, ny = grid.ny;
         for (int j = 0; j < ny; ++j)
@@ -255,12 +257,17 @@ namespace fretsim::contact
       /// sum = sum over the N loads of (kernel spectrum) x (load spectrum), in
       /// one pass so the accumulator is written once (memory bound).
       template <int N>
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+      __attribute__((target_clones("avx2", "default")))
+#endif
       void spectral_sum(const double *const *kernel, const fftw_complex *const *load, const double *sign_real,
                         const double *sign_imag, const double *mirror_sign, fftw_complex *sum) const
       {
-        for (int ky = 0; ky < my; ++ky)
+        for (int r = 0; r < my; ++r)
           {
-            // Spectrum row ky > my/2 is the stored row my - ky times the y parity.
+            // Row r of the spectra holds frequency ky (ColumnTransform's
+            // order); ky > my/2 is the stored row my - ky times the y parity.
+            const int         ky       = columns->frequency_of_row(r);
             const bool        mirrored = ky > my / 2;
             const std::size_t row      = static_cast<std::size_t>(mirrored ? my - ky : ky) * cx;
             const double     *k[N];
@@ -269,12 +276,12 @@ namespace fretsim::contact
             for (int a = 0; a < N; ++a)
               {
                 k[a]            = kernel[a] + row;
-                in[a]           = &load[a][static_cast<std::size_t>(ky) * cx][0];
+                in[a]           = &load[a][static_cast<std::size_t>(r) * cx][0];
                 const double sg = mirrored ? mirror_sign[a] : 1.0;
                 cr[a]           = sg * sign_real[a];
                 ci[a]           = sg * sign_imag[a];
               }
-            double *out = &sum[static_cast<std::size_t>(ky) * cx][0];
+            double *out = &sum[static_cast<std::size_t>(r) * cx][0];
             for (int kx = 0; kx < cx; ++kx)
               {
                 double re = 0.0, im = 0.0;
@@ -343,8 +350,9 @@ namespace fretsim::contact
       int                 mx, my, cx; ///< padded sizes and r2c width mx/2 + 1
       std::size_t         quarter;    ///< (my/2 + 1) * cx reals per kernel spectrum
       fftw_plan           kernel_forward = nullptr; ///< full 2-D r2c, for the kernel spectra
-      fftw_plan           rows_forward = nullptr, columns_forward = nullptr;
-      fftw_plan           columns_inverse = nullptr, rows_inverse = nullptr;
+      fftw_plan           rows_forward = nullptr, rows_inverse = nullptr;
+      /// The column passes, two short transforms each (column_transform.h).
+      std::unique_ptr<detail::ColumnTransform> columns;
       int                 cached_layers = 0;
       std::vector<double> cached_spectra;
 

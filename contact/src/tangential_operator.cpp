@@ -1,5 +1,6 @@
 #include "tangential_operator.h"
 
+#include "column_transform.h"
 #include "fftw_planner.h"
 
 #include <fretsim/contact/rectangle_kernels.h>
@@ -76,8 +77,11 @@ namespace fretsim::contact::detail
     std::size_t spectrum_size = 0; ///< 2my * (mx + 1) complex values (r2c keeps half of x)
 
     std::unique_ptr<double[], FftwFree>       real_x, real_y;
-    std::unique_ptr<fftw_complex[], FftwFree> spectrum_x, spectrum_y;
-    /// Real transforms of the xx, xy, yy kernels, divided by the padded size.
+    /// Both spectra in one array (x, then y), so that one column pass does both.
+    std::unique_ptr<fftw_complex[], FftwFree> spectra;
+    fftw_complex                             *spectrum_x = nullptr, *spectrum_y = nullptr;
+    /// Real transforms of the xx, xy, yy kernels, divided by the padded size,
+    /// their rows in the order the column pass leaves the spectra in.
     std::vector<double> kernel_xx, kernel_xy, kernel_yy;
 
     fftw_plan forward = nullptr; ///< full 2-D r2c, for the kernels
@@ -85,13 +89,13 @@ namespace fretsim::contact::detail
     /// window of the output is read, so the 2-D transforms are done as row
     /// and column passes that skip the my zero rows on the way in and the my
     /// unread rows on the way out (3/4 of a full 2-D transform's work each).
-    fftw_plan rows_forward = nullptr, columns_forward = nullptr;
-    fftw_plan columns_inverse = nullptr, rows_inverse = nullptr;
+    fftw_plan rows_forward = nullptr, rows_inverse = nullptr;
+    std::unique_ptr<ColumnTransform> columns;
 
     ~Buffers()
     {
       std::lock_guard<std::mutex> lock(fftw_planner_mutex());
-      for (fftw_plan plan : {forward, rows_forward, columns_forward, columns_inverse, rows_inverse})
+      for (fftw_plan plan : {forward, rows_forward, rows_inverse})
         if (plan)
           fftw_destroy_plan(plan);
     }
@@ -110,8 +114,9 @@ namespace fretsim::contact::detail
     b.spectrum_size = static_cast<std::size_t>(py) * (mx + 1);
     b.real_x        = fftw_array<double>(b.padded_size);
     b.real_y        = fftw_array<double>(b.padded_size);
-    b.spectrum_x    = fftw_array<fftw_complex>(b.spectrum_size);
-    b.spectrum_y    = fftw_array<fftw_complex>(b.spectrum_size);
+    b.spectra       = fftw_array<fftw_complex>(2 * b.spectrum_size);
+    b.spectrum_x    = b.spectra.get();
+    b.spectrum_y    = b.spectra.get() + b.spectrum_size;
     {
       // FFTW_MEASURE overwrites the arrays while planning: plan first.
       std::lock_guard<std::mutex> lock(fftw_planner_mutex());
@@ -119,21 +124,19 @@ namespace fretsim::contact::detail
       if (!measure_plans)
         forget_planner_history();
       const int cx = mx + 1; // complex values of a row's r2c transform
-      b.forward = fftw_plan_dft_r2c_2d(py, px, b.real_x.get(), b.spectrum_x.get(), flags);
+      b.forward = fftw_plan_dft_r2c_2d(py, px, b.real_x.get(), b.spectrum_x, flags);
       // my rows of px reals -> my rows of cx (the other my rows are zero) ...
-      b.rows_forward = fftw_plan_many_dft_r2c(1, &px, my, b.real_x.get(), nullptr, 1, px, b.spectrum_x.get(), nullptr,
+      b.rows_forward = fftw_plan_many_dft_r2c(1, &px, my, b.real_x.get(), nullptr, 1, px, b.spectrum_x, nullptr,
                                               1, cx, flags);
-      // ... then cx columns of py, in place; back the same way, keeping rows
-      // 0..my-1.
-      b.columns_forward = fftw_plan_many_dft(1, &py, cx, b.spectrum_x.get(), nullptr, cx, 1, b.spectrum_x.get(),
-                                             nullptr, cx, 1, FFTW_FORWARD, flags);
-      b.columns_inverse = fftw_plan_many_dft(1, &py, cx, b.spectrum_x.get(), nullptr, cx, 1, b.spectrum_x.get(),
-                                             nullptr, cx, 1, FFTW_BACKWARD, flags);
-      b.rows_inverse = fftw_plan_many_dft_c2r(1, &px, my, b.spectrum_x.get(), nullptr, 1, cx, b.real_x.get(), nullptr,
+      // ... then cx columns of py, in place (ColumnTransform); back the same
+      // way, keeping rows 0..my-1.
+      b.rows_inverse = fftw_plan_many_dft_c2r(1, &px, my, b.spectrum_x, nullptr, 1, cx, b.real_x.get(), nullptr,
                                               1, px, flags);
     }
-    if (!b.forward || !b.rows_forward || !b.columns_forward || !b.columns_inverse || !b.rows_inverse)
+    if (!b.forward || !b.rows_forward || !b.rows_inverse)
       throw std::runtime_error("BlockConvolution: FFTW could not create the plans");
+    b.columns = std::make_unique<ColumnTransform>(py, mx + 1, 2, static_cast<std::ptrdiff_t>(b.spectrum_size), b.spectra.get(),
+                                                  measure_plans);
 
     // Wrap-around order: offsets 0..m-1 at 0..m-1, -(m-1)..-1 at m+1..2m-1,
     // index m (reached by no offset) zero.
@@ -153,12 +156,16 @@ namespace fretsim::contact::detail
               padded[static_cast<std::size_t>(jj) * px + ii] = coefficient(di, dj);
             }
         }
-      fftw_execute_dft_r2c(b.forward, padded, b.spectrum_x.get());
+      fftw_execute_dft_r2c(b.forward, padded, b.spectrum_x);
       // The kernel is even, so its transform is real up to round-off.
       const double scale = 1.0 / static_cast<double>(b.padded_size);
       result.resize(b.spectrum_size);
-      for (std::size_t n = 0; n < b.spectrum_size; ++n)
-        result[n] = b.spectrum_x[n][0] * scale;
+      for (int row = 0; row < py; ++row)
+        {
+          const std::size_t from = static_cast<std::size_t>(b.columns->frequency_of_row(row)) * (mx + 1);
+          for (int column = 0; column <= mx; ++column)
+            result[static_cast<std::size_t>(row) * (mx + 1) + column] = b.spectrum_x[from + column][0] * scale;
+        }
     };
     transform([&](int di, int dj) { return kernel.xx(di, dj); }, b.kernel_xx);
     transform([&](int di, int dj) { return kernel.xy(di, dj); }, b.kernel_xy);
@@ -167,6 +174,29 @@ namespace fretsim::contact::detail
   }
 
   BlockConvolution::~BlockConvolution() = default;
+
+  namespace
+  {
+    /// (sx, sy) = K (sx, sy) at every frequency, K the real symmetric 2 x 2
+    /// kernel spectrum. In AVX2 where the processor has it, chosen when the
+    /// program loads: the same IEEE operations (no fused multiply-add), so
+    /// the same digits everywhere.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+    __attribute__((target_clones("avx2", "default")))
+#endif
+    void multiply(const double *kxx, const double *kxy, const double *kyy, std::size_t size, fftw_complex *sx,
+                  fftw_complex *sy)
+    {
+      for (std::size_t n = 0; n < size; ++n)
+        {
+          const double tx_re = sx[n][0], tx_im = sx[n][1], ty_re = sy[n][0], ty_im = sy[n][1];
+          sx[n][0] = kxx[n] * tx_re + kxy[n] * ty_re;
+          sx[n][1] = kxx[n] * tx_im + kxy[n] * ty_im;
+          sy[n][0] = kxy[n] * tx_re + kyy[n] * ty_re;
+          sy[n][1] = kxy[n] * tx_im + kyy[n] * ty_im;
+        }
+    }
+  } // namespace
 
   void BlockConvolution::clear()
   {
@@ -184,7 +214,7 @@ namespace fretsim::contact::detail
   void BlockConvolution::execute()
   {
     Buffers          &b       = *buffers;
-    fftw_complex     *sx      = b.spectrum_x.get(), *sy = b.spectrum_y.get();
+    fftw_complex     *sx      = b.spectrum_x, *sy = b.spectrum_y;
     const std::size_t cx      = static_cast<std::size_t>(mx) + 1;
     const std::size_t zero_at = static_cast<std::size_t>(my) * cx; // rows my..2my-1 of the spectrum
     for (fftw_complex *spectrum : {sx, sy})
@@ -192,21 +222,13 @@ namespace fretsim::contact::detail
         double *real = spectrum == sx ? b.real_x.get() : b.real_y.get();
         fftw_execute_dft_r2c(b.rows_forward, real, spectrum);
         std::fill_n(&spectrum[zero_at][0], 2 * (b.spectrum_size - zero_at), 0.0);
-        fftw_execute_dft(b.columns_forward, spectrum, spectrum);
       }
-    const double *kxx = b.kernel_xx.data(), *kxy = b.kernel_xy.data(), *kyy = b.kernel_yy.data();
-    for (std::size_t n = 0; n < b.spectrum_size; ++n)
-      {
-        const double tx_re = sx[n][0], tx_im = sx[n][1], ty_re = sy[n][0], ty_im = sy[n][1];
-        sx[n][0] = kxx[n] * tx_re + kxy[n] * ty_re;
-        sx[n][1] = kxx[n] * tx_im + kxy[n] * ty_im;
-        sy[n][0] = kxy[n] * tx_re + kyy[n] * ty_re;
-        sy[n][1] = kxy[n] * tx_im + kyy[n] * ty_im;
-      }
+    b.columns->forward(b.spectra.get());
+    multiply(b.kernel_xx.data(), b.kernel_xy.data(), b.kernel_yy.data(), b.spectrum_size, sx, sy);
+    b.columns->inverse(b.spectra.get());
     for (fftw_complex *spectrum : {sx, sy})
       {
         double *real = spectrum == sx ? b.real_x.get() : b.real_y.get();
-        fftw_execute_dft(b.columns_inverse, spectrum, spectrum);
         fftw_execute_dft_c2r(b.rows_inverse, spectrum, real);
       }
   }

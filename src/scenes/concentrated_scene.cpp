@@ -26,6 +26,7 @@
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <thread>
 #include <tuple>
@@ -557,6 +558,19 @@ namespace fretsim::scenes
     std::atomic<bool>        cancelled{false}; ///< the run was interrupted: stop
     std::vector<std::thread> threads;
     Clock::time_point        start;
+    /// The history, whose virgin levels' stress evaluations the threads take
+    /// between their steps (FrettingRun::defer_level_stresses): the history's
+    /// core then only solves its levels' tractions, one after the other.
+    std::mutex                   helped_mutex;
+    const contact::FrettingRun  *helped = nullptr;
+
+    /// Sets (or with nullptr ends, waiting for an evaluation under way) the
+    /// history the threads help.
+    void help(const contact::FrettingRun *history)
+    {
+      std::lock_guard<std::mutex> lock(helped_mutex);
+      helped = history;
+    }
 
     void work()
     {
@@ -574,6 +588,11 @@ namespace fretsim::scenes
                                      contact::fretting_grid(*fretting_case, cells_x, cells_y, half_width_factor));
             while (!run.finished() && !cancelled)
               {
+                {
+                  std::lock_guard<std::mutex> lock(helped_mutex);
+                  if (helped)
+                    helped->help_with_level_stresses();
+                }
                 run.advance();
                 if (k == check_source && run.steps_done() == check_step)
                   risk[check_slot] = run.risk_maximum().value;
@@ -794,9 +813,30 @@ namespace fretsim::scenes
       }
     // 1. Normal contact, on the grid of the run.
     contact::FrettingRun run(fretting_case, grid, std::move(stresses));
+    // The reruns' thread evaluates the history's level stresses; it stops
+    // before the history goes (a throw included).
+    struct StopHelping
+    {
+      RiskReruns *reruns;
+      ~StopHelping()
+      {
+        if (reruns)
+          reruns->help(nullptr);
+      }
+    } stop_helping{reruns && cores > 1 ? reruns.get() : nullptr};
+    if (stop_helping.reruns)
+      {
+        run.defer_level_stresses(true);
+        reruns->help(&run);
+      }
     // 2. The sliding cycles: traction, stresses and Dang Van every step,
     //    results.h5 growing step by step.
     const History history = simulate(run, options, report.results_file, reruns.get());
+    if (stop_helping.reruns)
+      {
+        reruns->help(nullptr);
+        stop_helping.reruns = nullptr;
+      }
     report.completed      = history.completed;
     // 3. The error estimate's reruns finished, on every core.
     std::optional<RiskConvergence> convergence;

@@ -11,7 +11,9 @@
 #include "reference/paper_fretting_case.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <thread>
 #include <vector>
 
 using namespace fretsim::contact;
@@ -84,9 +86,12 @@ namespace
 // Stresses are linear in the traction, so composing them as the traction is
 // composed changes only the rounding: per value a few additions and the FFT
 // evaluator's round-off of each part, ~1e-16 of the largest stress each.
-// Measured at most 2.9e-16 of the largest stress and 1.3e-15 in D (D ~ 0.7)
-// over the two tests; tolerances 1e-14 for both, with a sliding along x and
-// one at an angle (both traction components), and a bulk stress on top.
+// Measured at most 2.6e-16 of the largest stress over the two tests, and up
+// to 1.1e-14 in D (D ~ 0.7): where two principal values lie close the Dang
+// Van step's closed form keeps 40 eps (unit_dang_van), so D amplifies the
+// stresses' round-off, by how much depending on the traction's last digits.
+// Tolerances 1e-14 for the stresses and 3e-14 for D, with a sliding along x
+// and one at an angle (both traction components), and a bulk stress on top.
 TEST(FrettingRunSuperposition, EqualsAStressEvaluationPerStep)
 {
   for (const double direction : {0.0, 0.6})
@@ -97,7 +102,7 @@ TEST(FrettingRunSuperposition, EqualsAStressEvaluationPerStep)
       c.bulk_stress.amplitude_surface[2] = 5e7;
       const Comparison result = superposed_against_reference(c, fretting_grid(c, 24, 24, 1.5));
       EXPECT_LT(result.difference.stress, 1e-14) << direction;
-      EXPECT_LT(result.difference.risk, 1e-14) << direction;
+      EXPECT_LT(result.difference.risk, 3e-14) << direction;
       const RiskMaximum &a = result.superposed, &b = result.reference;
       EXPECT_NEAR(a.value, b.value, 1e-14 * b.value) << direction;
       EXPECT_EQ(a.step, b.step);
@@ -208,4 +213,33 @@ TEST(FrettingRunSuperposition, EstimatedPlansRepeatAndAgreeWithMeasuredOnes)
   c.stress_evaluator.measure_fft_plans = true;
   const double measured = fretting_risk_maximum(c, grid).value;
   EXPECT_NEAR(measured, estimated, 1e-6 * estimated);
+}
+
+// The scene lets the error estimate's thread evaluate the history's level
+// stresses (FrettingRun::defer_level_stresses): a helper thread taking them
+// while the run solves its levels gives the same risk field bit for bit.
+TEST(FrettingRunSuperposition, DeferredLevelStressesOnAnotherThreadGiveTheSameRisk)
+{
+  FrettingCase      c    = paper_case();
+  c.cycles               = 1;
+  const SurfaceGrid grid = fretting_grid(c, 32, 32, 1.5);
+  FrettingRun       alone(c, grid);
+  while (!alone.finished())
+    alone.advance();
+
+  FrettingRun deferred(c, grid);
+  deferred.defer_level_stresses(true);
+  std::atomic<bool> stop{false};
+  std::thread       helper([&] {
+    omp_set_num_threads(1);
+    while (!stop)
+      deferred.help_with_level_stresses();
+  });
+  while (!deferred.finished())
+    deferred.advance();
+  const std::vector<double> risk = deferred.risk_max();
+  stop = true;
+  helper.join();
+  EXPECT_EQ(risk, alone.risk_max());
+  EXPECT_EQ(deferred.risk_maximum().value, alone.risk_maximum().value);
 }

@@ -182,6 +182,17 @@ namespace fretsim::contact
     /// True if the stresses are composed from the virgin levels' (class comment).
     bool stresses_superposed() const { return masing != nullptr; }
 
+    /// With `deferred`, advance() queues the virgin levels' stress evaluations
+    /// instead of running them between the serial traction solves: another
+    /// thread takes them with help_with_level_stresses(), and what is still
+    /// queued when a level is needed runs then. Set before the first step.
+    /// The same stresses, whichever thread evaluates them.
+    void defer_level_stresses(bool deferred) { level_stresses_deferred = deferred; }
+    /// Runs the queued level evaluations, if any; safe from another thread
+    /// while this run advances (not after it is destroyed). That thread's own
+    /// OpenMP thread count applies.
+    void help_with_level_stresses() const;
+
   private:
     /// total = pressure + shear (if given) + bulk stress at the current time.
     void add_stresses(const StressField *shear);
@@ -204,8 +215,14 @@ namespace fretsim::contact
                                            std::int64_t &whole_step) const;
     /// The bulk stress on each layer at the current time (Voigt).
     std::vector<std::array<double, stress_component_count>> bulk_parts() const;
-    /// The stresses of virgin level k (superposed_part), evaluated on
-    /// first use.
+    /// Level k's stresses once they are evaluated: runs its queued evaluation
+    /// here, or waits for the thread that took it.
+    const double *ready_level(std::size_t level) const;
+    /// Evaluates level k's stresses from its tractions into the store.
+    void evaluate_level(std::size_t level, const Field &tau_x, const Field &tau_y, StressField &scratch) const;
+    /// Asks for the stresses of virgin level k (superposed_part): evaluated
+    /// now, or queued (defer_level_stresses); nullptr while queued or
+    /// running (ready_level waits for them).
     const double *level_stresses(std::size_t level);
     /// out = S(p) + S(tau_r) + f ((1 - w) S(T_l) + w S(T_u)) for `recipe`, the
     /// pressure's stresses included (and kept so in reversal_stress), as superposed_part.
@@ -228,6 +245,7 @@ namespace fretsim::contact
     const MasingTraction                    *masing = nullptr; ///< set: superposed stresses
     struct LevelStore;
     std::unique_ptr<LevelStore>              virgin_stress;   ///< the levels' stresses
+    bool                                     level_stresses_deferred = false;
     std::map<std::int64_t, std::vector<double>> reversal_stress; ///< by reversal id, the pressure's included (superposed_part)
     std::vector<double>                      pressure_part;   ///< superposed_part of pressure_stress
     /// A superposed step whose Dang Van step is still to run: its recipe and

@@ -9,8 +9,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
-#include <cstdlib>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -681,7 +679,6 @@ namespace fretsim::coupling
                                      d.last_error.empty() ? "" : ": " + d.last_error);
           double step = 0.0;
           ARKStepGetLastStep(sun.arkode, &step);
-          { static FILE *xp = std::getenv("XP_STEPS") ? fopen(std::getenv("XP_STEPS"), "w") : nullptr; if (xp) { long nf = 0, ne = 0; ARKStepGetNumNonlinSolvConvFails(sun.arkode, &nf); ARKStepGetNumErrTestFails(sun.arkode, &ne); fprintf(xp, "%.9e %.4e %ld %ld", t, step, nf, ne); for (double L : d.balls.loads()) fprintf(xp, " %.1f", L); for (double a : d.ball_angles(t)) fprintf(xp, " %.2f", std::fmod(a * 180 / M_PI, 360.0)); fprintf(xp, " %.4f", d.interface.contact_fraction()); static std::vector<char> prev; const auto &pp = d.interface.pressure(); if (prev.size() != pp.size()) prev.assign(pp.size(), 0); int ch = 0; for (std::size_t c = 0; c < pp.size(); ++c) { char now = pp[c] > 0; ch += now != prev[c]; prev[c] = now; } fprintf(xp, " %d\n", ch); } }
           d.stats.smallest_step = std::min(d.stats.smallest_step, step);
           d.stats.largest_step  = std::max(d.stats.largest_step, step);
           const auto accept_start = Clock::now();

@@ -87,7 +87,7 @@ TEST(OutputFolder, EveryOutputPathProblemNamesTheOptionBeforeComputing)
   test_files::write_text(dir / "a_file", "x");
   // Every path problem with `run`, and one with every other command (they share the check).
   std::vector<std::pair<std::string, std::string>> cases;
-  for (const std::string output : {(dir / "a_file" / "below").string(), std::string("''"),
+  for (const std::string &output : {(dir / "a_file" / "below").string(), std::string("''"),
                                    std::string("/mnt/fretsim-no-such-drive/out")})
     cases.emplace_back("run " + scene.string(), output);
   for (const std::string command : {"run", "compare-traction", "fe", "mesh", "compare"})

@@ -582,7 +582,7 @@ namespace fretsim::coupling
     struct JacobianRows
     {
       RowMatrix normal, radial, tangential, slipped;
-      bool      single_precision = false; ///< the sensitivity's factorisation was
+      bool      single_precision = false; ///< the sensitivity came from a single precision factorisation
     };
 
     JacobianRows jacobian_rows(const std::vector<std::size_t> &active) const

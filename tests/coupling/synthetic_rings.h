@@ -65,14 +65,10 @@ namespace fretsim::coupling::synthetic
     return housing;
   }
 
-  /// Random operators and an SPD mass/stiffness of size n (for transfer and
-  /// derivative checks, not physics).
-  inline ReducedRing random_ring(std::size_t n, int cells_around, int cells_across, unsigned seed)
+  /// n coordinates with a diagonal mass (0.2) and stiffness (1e8 (j + 1)).
+  inline void diagonal_structure(ReducedRing &ring, std::size_t n)
   {
-    std::mt19937                           generator(seed);
-    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-    ReducedRing                            ring = rigid_ring(0.04, 0.018, 0.2, cells_around, cells_across, 16);
-    ring.n                                      = n;
+    ring.n = n;
     ring.mass.assign(n * n, 0.0);
     ring.stiffness.assign(n * n, 0.0);
     for (std::size_t j = 0; j < n; ++j)
@@ -80,6 +76,16 @@ namespace fretsim::coupling::synthetic
         ring.mass[j * n + j]      = 0.2;
         ring.stiffness[j * n + j] = 1e8 * (j + 1);
       }
+  }
+
+  /// Random operators and an SPD mass/stiffness of size n (for transfer and
+  /// derivative checks, not physics).
+  inline ReducedRing random_ring(std::size_t n, int cells_around, int cells_across, unsigned seed)
+  {
+    std::mt19937                           generator(seed);
+    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+    ReducedRing                            ring = rigid_ring(0.04, 0.018, 0.2, cells_around, cells_across, 16);
+    diagonal_structure(ring, n);
     for (auto *values : {&ring.interface_displacement, &ring.raceway_approach})
       {
         values->resize((values == &ring.raceway_approach ? ring.raceway_angles : ring.interface_grid.size() * 3) * n);

@@ -169,14 +169,7 @@ TEST(InterfaceTransfer, CoordinatesThatDoNotMoveTheInterfaceStayOutOfItsJacobian
   const std::vector<std::size_t> place{0, 2, 3, 4, 5}; // of the five in the wide ring
   const auto        ring = synthetic::random_ring(n, 36, 3, 7);
   ReducedRing       widened = ring;
-  widened.n                 = wide;
-  widened.mass.assign(wide * wide, 0.0);
-  widened.stiffness.assign(wide * wide, 0.0);
-  for (std::size_t j = 0; j < wide; ++j)
-    {
-      widened.mass[j * wide + j]      = 0.2;
-      widened.stiffness[j * wide + j] = 1e8 * (j + 1);
-    }
+  synthetic::diagonal_structure(widened, wide);
   for (auto *values : {&widened.interface_displacement, &widened.raceway_approach})
     {
       const std::vector<double> &narrow = values == &widened.interface_displacement ? ring.interface_displacement

@@ -66,8 +66,9 @@ namespace fretsim::coupling
                            std::vector<double> &result);
     struct SensitivityColumns;
     /// (C_AA + I/k_n)⁻¹ rhs by Cholesky; false if the factorisation fails.
+    /// `in_single`: it was done in single precision.
     bool direct_sensitivity(const std::vector<std::size_t> &loaded, const double *rhs, std::size_t columns,
-                            std::vector<double> &result);
+                            std::vector<double> &result, bool &in_single);
     template <class Scalar>
     static bool factorise_and_solve(const Eigen::MatrixXd &operator_aa, const double *rhs, std::size_t columns,
                                     std::vector<double> &result);
@@ -618,7 +619,7 @@ namespace fretsim::coupling
   };
 
   bool LocalCompliance::Impl::direct_sensitivity(const std::vector<std::size_t> &loaded, const double *rhs,
-                                                 std::size_t columns, std::vector<double> &result)
+                                                 std::size_t columns, std::vector<double> &result, bool &in_single)
   {
     const auto     m = static_cast<Eigen::Index>(loaded.size());
     Eigen::MatrixXd operator_aa(m, m); // C_AA + I/k_n
@@ -634,12 +635,8 @@ namespace fretsim::coupling
         operator_aa(b, b) += layer_compliance;
       }
     // Single precision where it fails or is too ill-conditioned falls back to double.
-    if (single_precision && factorise_and_solve<float>(operator_aa, rhs, columns, result))
-      {
-        ++statistics.sensitivity_single_precision;
-        return true;
-      }
-    return factorise_and_solve<double>(operator_aa, rhs, columns, result);
+    in_single = single_precision && factorise_and_solve<float>(operator_aa, rhs, columns, result);
+    return in_single || factorise_and_solve<double>(operator_aa, rhs, columns, result);
   }
 
   template <class Scalar>
@@ -668,7 +665,7 @@ namespace fretsim::coupling
     return true;
   }
 
-  void LocalCompliance::pressure_sensitivity(const std::vector<std::size_t> &loaded, const double *rhs,
+  bool LocalCompliance::pressure_sensitivity(const std::vector<std::size_t> &loaded, const double *rhs,
                                              std::size_t columns, std::vector<double> &result)
   {
     auto &d = *impl;
@@ -680,15 +677,17 @@ namespace fretsim::coupling
     // housing: the residual flexibilities and the layer alone) the operator
     // can be ill-conditioned, and the conjugate gradients' 1e-2 residual left
     // errors of tens of per cent in Newton's matrix (docs/bearing.md).
-    if (loaded.size() <= d.direct_cells && d.direct_sensitivity(loaded, rhs, columns, result))
+    bool in_single = false;
+    if (loaded.size() <= d.direct_cells && d.direct_sensitivity(loaded, rhs, columns, result, in_single))
       {
         ++d.statistics.sensitivity_factorisations;
-        return;
+        d.statistics.sensitivity_single_precision += in_single;
+        return in_single;
       }
     if (d.reuse_sensitivity(loaded, rhs, columns, result))
       {
         ++d.statistics.sensitivity_reuses;
-        return;
+        return false;
       }
     // The columns are independent solves: shared out over the threads
     // (SurfaceConvolution::apply is safe to call concurrently), each with
@@ -712,5 +711,6 @@ namespace fretsim::coupling
     std::fill(d.last_known.begin(), d.last_known.end(), 0);
     for (const std::size_t c : loaded)
       d.last_known[c] = 1;
+    return false;
   }
 } // namespace fretsim::coupling

@@ -618,9 +618,8 @@ namespace fretsim::coupling
       if (local)
         { // ∂p_A/∂d0_A = (C_AA + I/k_n)⁻¹: the radial rows through it
           std::vector<double> sensitivity;
-          const std::size_t   single_before = local->statistics().sensitivity_single_precision;
-          local->pressure_sensitivity(active, rows_of.radial.data(), static_cast<std::size_t>(size), sensitivity);
-          rows_of.single_precision = local->statistics().sensitivity_single_precision > single_before;
+          rows_of.single_precision =
+            local->pressure_sensitivity(active, rows_of.radial.data(), static_cast<std::size_t>(size), sensitivity);
           rows_of.radial = Eigen::Map<const RowMatrix>(sensitivity.data(), m, size);
         }
       return rows_of;

@@ -118,7 +118,10 @@ namespace fretsim::coupling
     /// be the same rows per cell from call to call (the interface operator):
     /// while A differs from the last computed set in at most 2 % of its
     /// cells, the last answer is returned (for Newton's matrix only).
-    void pressure_sensitivity(const std::vector<std::size_t> &loaded, const double *rhs,
+    /// Returns whether the answer came from a single precision factorisation
+    /// (set_single_precision_factorisation): accurate to about 1e-6, not to
+    /// rounding.
+    bool pressure_sensitivity(const std::vector<std::size_t> &loaded, const double *rhs,
                               std::size_t columns, std::vector<double> &result);
 
     /// Work done so far, in convolutions (the cost of both calls).

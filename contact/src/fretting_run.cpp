@@ -167,6 +167,33 @@ namespace fretsim::contact
     dang_van   = std::make_unique<DangVanField>(setup.depth_layers.size() * (surface.ny - mirror_row) * surface.nx,
                                                 setup.dang_van, settings);
 
+    if (setup.contact_edge_risk && setup.radius_x == setup.radius_y && setup.sliding_amplitude != 0.0 &&
+        setup.exact.masing_level_spacing > 0.0)
+      if (const MasingTraction *model = masing_traction(*traction_model))
+        {
+          // The edge and its interpolation stencils a cell inside the grid.
+          const auto [a, a_y] = setup.hertz_semi_axes();
+          const double half_width = std::min(-surface.x_min, -surface.y_min);
+          if (a + 1.5 * std::max(surface.hx, surface.hy) < half_width)
+            {
+              ContactEdgeCase edge_case;
+              edge_case.contact_radius       = a;
+              edge_case.peak_pressure        = setup.hertz_peak_pressure();
+              edge_case.friction_coefficient = setup.friction_coefficient;
+              edge_case.gross_slip_shift     = 3.0 * setup.friction_coefficient * setup.normal_load /
+                                           (16.0 * setup.materials.tangential_modulus() * a);
+              edge_case.level_spacing     = setup.exact.masing_level_spacing;
+              edge_case.sliding_angle     = setup.sliding_direction;
+              edge_case.poisson_ratio     = setup.materials.lower.poisson_ratio;
+              edge_case.dang_van          = setup.dang_van;
+              edge_case.dang_van_settings = settings;
+              edge_case.stress_evaluator  = setup.stress_evaluator;
+              edge_case.stress_evaluator.method = "fft"; // the surface only: exact to round-off and fast
+              edge          = std::make_unique<ContactEdgeRisk>(edge_case, surface, contact_pressure);
+              edge_traction = model;
+            }
+        }
+
     // The superposition needs the level table to stay within the budget: the
     // history reaches the virgin shift amplitude (the first quarter cycle; a
     // branch from a reversal at +-amplitude halves the shift of at most
@@ -210,13 +237,25 @@ namespace fretsim::contact
 
     // The composition of the traction before the step (that of a reversal
     // the step may start).
-    const MasingTraction::Composition before = masing ? masing->composition() : MasingTraction::Composition{};
+    const MasingTraction::Composition before = masing          ? masing->composition() :
+                                               edge_traction ? edge_traction->composition() :
+                                                               MasingTraction::Composition{};
     auto start = Clock::now();
     traction_model->advance(contact_pressure, setup.friction_coefficient, slip * std::cos(setup.sliding_direction),
                             slip * std::sin(setup.sliding_direction));
     times.traction += seconds_since(start);
     iterations_total += traction_model->last_iterations();
     iterations_most = std::max(iterations_most, traction_model->last_iterations());
+    if (edge)
+      {
+        start = Clock::now();
+        const StressTensor bulk = setup.bulk_stress.at(0.0, time(), setup.period);
+        std::array<double, stress_component_count> surface_bulk;
+        for (int component = 0; component < stress_component_count; ++component)
+          surface_bulk[component] = bulk[component];
+        edge->add_step(*edge_traction, before, surface_bulk);
+        times.dang_van += seconds_since(start);
+      }
 
     start = Clock::now();
     if (masing)
@@ -745,6 +784,13 @@ namespace fretsim::contact
     const int row          = result.j >= mirror_row ? result.j : surface.ny - 1 - result.j;
     result.step = dang_van->risk_max_step()[(result.layer * (surface.ny - mirror_row) + row - mirror_row) * surface.nx + result.i];
     return result;
+  }
+
+  std::optional<ContactEdgeRiskMaximum> FrettingRun::edge_risk_maximum() const
+  {
+    if (!edge)
+      return std::nullopt;
+    return edge->maximum();
   }
 
   RiskMaximum fretting_risk_maximum(const FrettingCase &fretting_case, const SurfaceGrid &grid)

@@ -82,7 +82,7 @@ TEST(Parameters, OutOfRangeValuesNameParameterAndExpectation)
          {"Friction coefficient    ", "-0.1", "Friction coefficient", ">= 0"},
          {"Cells x          ", "0", "Cells x", ">= 8"},
          {"Normal load      ", "abc", "Normal load", "a number > 0, got 'abc'"},
-         {"Pressure model", "fem", "Pressure model", "numerical|hertz"},
+         {"Pressure model", "fem", "Pressure model", "hertz|numerical"},
          {"Field snapshots per cycle", "7", "Field snapshots per cycle", "divisor"},
          {"Depth layers", "0, -1e-5", "Stresses/Depth layers", ">= 0, increasing, got '0, -1e-5'"},
          // Torsion limit above the bending limit: almost surely swapped.

@@ -4,6 +4,7 @@
 // on the depth layers and the Dang Van risk. The concentrated scene runs it once
 // with its output, and again on coarser grids to estimate the grid error of
 // D_max (grid_convergence.h).
+#include <fretsim/contact/contact_edge.h>
 #include <fretsim/contact/dang_van.h>
 #include <fretsim/contact/masing_traction.h>
 #include <fretsim/contact/material.h>
@@ -18,6 +19,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace fretsim::contact
@@ -77,6 +79,9 @@ namespace fretsim::contact
     /// only and its fields are mirrored back; false: on every point (the
     /// reference).
     bool mirror_symmetry = true;
+    /// true: with the exact masing traction on a circular contact, the risk on
+    /// the contact edge too (ContactEdgeRisk, FrettingRun::edge_risk_maximum()).
+    bool contact_edge_risk = true;
 
     /// Hertz semi-axes (a_x, a_y) of the case [m].
     std::pair<double, double> hertz_semi_axes() const;
@@ -167,6 +172,8 @@ namespace fretsim::contact
     std::size_t                    infinite_risk_max_count() const;
     /// The first (on ties, the first in point order over every point).
     RiskMaximum                    risk_maximum() const;
+    /// D_max on the contact edge, where it is evaluated (FrettingCase::contact_edge_risk).
+    std::optional<ContactEdgeRiskMaximum> edge_risk_maximum() const;
     /// True if the criterion runs on the half y >= 0 (mirror_symmetric()).
     bool                           mirrored() const { return mirror_row > 0; }
     /// First grid row the criterion runs on: ny / 2 when mirrored (the middle
@@ -235,6 +242,8 @@ namespace fretsim::contact
     std::unique_ptr<SubsurfaceStress>        stresses;
     std::unique_ptr<TangentialTractionModel> traction_model;
     std::unique_ptr<DangVanField>            dang_van;
+    std::unique_ptr<ContactEdgeRisk>         edge;            ///< the contact edge's risk, where evaluated
+    const MasingTraction                    *edge_traction = nullptr; ///< its traction
     int                                      mirror_row = 0; ///< mirror_first_row()
     mutable std::vector<double>              mirrored_now, mirrored_max; ///< risk_now(), risk_max() when mirrored
     mutable std::int64_t                     mirrored_now_step = -1, mirrored_max_step = -1; ///< of the step they are of

@@ -1,10 +1,10 @@
 #!/usr/bin/python3
 """Convergence of a scene's key results with its numerical parameters.
 
-    scripts/study_convergence.py CONFIG "Section/Name=v1,v2,..." [...] [-o DIR] [--keys k1,k2]
+    scripts/study_convergence.py CONFIG "Section/Name=v1,v2,..." [...] [--set Section/Name=v] [-o DIR] [--keys k1,k2]
 
 Runs build/fretsim once per value of each parameter (the others at the
-config's values), and prints a table of the chosen summary.json keys and the
+config's values, or at those --set gives every run), and prints a table of the chosen summary.json keys and the
 run time; writes DIR/convergence.csv. Example, the grid and the time step of
 the paper scene:
 
@@ -50,11 +50,15 @@ def main():
     parser.add_argument("config")
     parser.add_argument("sweeps", nargs="+", help='"Path[,Path2]=v1,v2,..."')
     parser.add_argument("--program", default=os.path.join(ROOT, "build", "fretsim"))
+    parser.add_argument("--set", action="append", default=[], help='"Path=value" for every run')
     parser.add_argument("-o", "--output", default=os.path.join(ROOT, "results", "convergence"))
     parser.add_argument("--keys", default="risk_max,risk_max_location_m,risk_max_depth_m,tangential_force_amplitude_N,"
                         "loop_error_vs_mindlin")
     args = parser.parse_args()
     base = open(args.config).read()
+    for fixed in args.set:
+        path, value = fixed.split("=", 1)
+        base = edit(base, path.strip(), value.strip())
     keys = args.keys.split(",")
     os.makedirs(args.output, exist_ok=True)
     rows = []

@@ -248,7 +248,8 @@ namespace fretsim::scenes
     // stress fields (3 × 6 doubles), the Dang Van state (13 doubles) and a
     // snapshot's staging (6 doubles): ~900 B. Per cell: the normal and
     // traction solvers' fields and kernels, ~600 B. The process itself
-    // (libraries) ~150 MB. Measured at 128² and 512²: within 1.5x above.
+    // (libraries) ~150 MB. The paper case's peak against this estimate:
+    // 377/401 MB at 128², 0.90/1.2 GB at 256², 1.51/2.1 GB at 512².
     ResourceEstimate estimate;
     double           per_point = 900.0;
     std::string      path_note;

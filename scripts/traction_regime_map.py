@@ -148,6 +148,7 @@ def main():
     parser.add_argument("--cycles", type=int, default=2)
     parser.add_argument("--steps", type=int, default=40, help="steps per cycle")
     parser.add_argument("--depths", default="0, 3.75e-5, 7.5e-5", help="Stresses/Depth layers [m]")
+    parser.add_argument("--pressure", default="numerical", help="Normal contact/Pressure model")
     parser.add_argument("--min-ratio", type=float, default=0.0, help="skip amplitude ratios below this")
     parser.add_argument("--rerun", action="store_true", help="rerun points whose compare_traction.csv exists")
     args = parser.parse_args()
@@ -157,7 +158,7 @@ def main():
             sys.exit(f"unknown group '{group}' (known: {', '.join(GROUPS)})")
     numerics = {"Grid/Cells x": str(args.cells), "Grid/Cells y": str(args.cells), "Loading/Cycles": str(args.cycles),
                 "Loading/Steps per cycle": str(args.steps), "Output/Field snapshots per cycle": "0",
-                "Stresses/Depth layers": args.depths}
+                "Stresses/Depth layers": args.depths, "Normal contact/Pressure model": args.pressure}
     os.makedirs(args.output, exist_ok=True)
     rows, failures, started = [], [], time.time()
     print(f"{'group':<11}{'mu':>5}{'d/dt':>6}{'delta* [um]':>12}  "

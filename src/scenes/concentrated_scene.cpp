@@ -249,7 +249,7 @@ namespace fretsim::scenes
     // snapshot's staging (6 doubles): ~900 B. Per cell: the normal and
     // traction solvers' fields and kernels, ~600 B. The process itself
     // (libraries) ~150 MB. The paper case's peak against this estimate:
-    // 377/401 MB at 128², 0.90/1.2 GB at 256², 1.51/2.1 GB at 512².
+    // 377/413 MB at 128², 0.90/1.2 GB at 256², 1.51/2.3 GB at 512².
     ResourceEstimate estimate;
     double           per_point = 900.0;
     std::string      path_note;
@@ -279,6 +279,10 @@ namespace fretsim::scenes
         virgin_bytes += level_stresses <= 512.0 * 1024 * 1024 ? level_stresses : 0.0;
         path_note += ", the superposition's " + std::to_string(long(levels)) +
                      " virgin levels and their stresses (Loading/Steps per cycle / 4)";
+        // A circular contact's edge risk keeps the kernel spectra of one more
+        // (surface) layer.
+        if (p.get_double("Geometry/Radius x") == p.get_double("Geometry/Radius y"))
+          virgin_bytes += 580.0 * cells;
       }
     // The error estimate reruns the history on a quarter of the cells while
     // the run's own state is still held: 1.25 times the run.

@@ -5,7 +5,7 @@
 // converges as h^(1/2). Here each load is split into the square-root shapes of
 // Hertz and Cattaneo-Mindlin, whose surface stresses are closed forms, and a
 // remainder that is smooth at the edge, interpolated from the grid's stresses
-// (docs/theory.md §2.5). On the paper's case the edge's D_max is within 0.5 %
+// (docs/theory.md §2.4). On the paper's case the edge's D_max is within 0.5 %
 // of its limit from 64^2 cells on.
 #include <fretsim/contact/dang_van.h>
 #include <fretsim/contact/masing_traction.h>

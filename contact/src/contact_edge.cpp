@@ -114,14 +114,24 @@ namespace fretsim::contact
     const auto positive = [](double v) { return v > 0.0 && std::isfinite(v); };
     const auto non_negative = [](double v) { return v >= 0.0 && std::isfinite(v); };
     if (!positive(setup.contact_radius) || !positive(setup.peak_pressure) || !positive(setup.level_spacing) ||
-        !non_negative(setup.friction_coefficient) || !non_negative(setup.gross_slip_shift) || points < 1)
+        !non_negative(setup.friction_coefficient) || !non_negative(setup.gross_slip_shift) ||
+        !non_negative(setup.stick_radius) || !(setup.stick_radius < setup.contact_radius) || points < 1)
       throw std::invalid_argument("contact edge risk: radius, peak pressure, level spacing and the number of points "
-                                  "must be positive, friction and gross-slip shift at least 0");
+                                  "must be positive, friction, gross-slip shift and stick radius at least 0, the "
+                                  "stick radius below the contact radius");
     const double a = setup.contact_radius;
-    for (int m = 0; m < points; ++m)
+    // The edge, the stick zone's largest front and circles between them: the
+    // risk can peak anywhere in the slip annulus, its cusps at either end.
+    std::vector<double> radii{a};
+    if (setup.stick_radius > 0.0)
+      for (int k = 0; k < annulus_circles; ++k)
+        radii.push_back(setup.stick_radius + (a - setup.stick_radius) * k / annulus_circles);
+    per_circle = static_cast<std::size_t>(points);
+    for (std::size_t point = 0; point < radii.size() * per_circle; ++point)
       {
-        const double theta = setup.sliding_angle + 2.0 * M_PI * m / points;
-        const double x = a * std::cos(theta), y = a * std::sin(theta);
+        const double r     = radii[point / per_circle];
+        const double theta = setup.sliding_angle + 2.0 * M_PI * static_cast<double>(point % per_circle) / points;
+        const double x = r * std::cos(theta), y = r * std::sin(theta);
         const double fx = (x - grid.x_min) / grid.hx - 0.5, fy = (y - grid.y_min) / grid.hy - 0.5;
         const int    i = static_cast<int>(std::floor(fx)), j = static_cast<int>(std::floor(fy));
         if (i < 0 || j < 0 || i + 1 >= grid.nx || j + 1 >= grid.ny)
@@ -141,9 +151,10 @@ namespace fretsim::contact
     for (std::size_t c = 0; c < rest.size(); ++c)
       rest[c] -= p0 * shape_a[c];
     surface_stress->evaluate(rest, no_load, no_load, scratch);
-    pressure_part.assign(stress_component_count * points, 0.0);
+    const std::size_t count = points_x.size();
+    pressure_part.assign(stress_component_count * count, 0.0);
     add_interpolated(scratch, 1.0, pressure_part);
-    for (int m = 0; m < points; ++m)
+    for (std::size_t m = 0; m < count; ++m)
       {
         const StressTensor exact = hertz_pressure_surface_stress(points_x[m], points_y[m], a, setup.poisson_ratio);
         for (int k = 0; k < stress_component_count; ++k)
@@ -160,17 +171,17 @@ namespace fretsim::contact
         load_y[c] = sa * shape_a[c];
       }
     surface_stress->evaluate(no_load, load_x, load_y, scratch);
-    radius_shape_part.assign(stress_component_count * points, 0.0);
+    radius_shape_part.assign(stress_component_count * count, 0.0);
     add_interpolated(scratch, -1.0, radius_shape_part);
-    for (int m = 0; m < points; ++m)
+    for (std::size_t m = 0; m < count; ++m)
       {
         const StressTensor exact =
           hertz_shear_surface_stress(points_x[m], points_y[m], a, setup.poisson_ratio, setup.sliding_angle);
         for (int k = 0; k < stress_component_count; ++k)
           radius_shape_part[stress_component_count * m + k] += exact[k];
       }
-    criterion = std::make_unique<DangVanField>(points, setup.dang_van, setup.dang_van_settings);
-    now.assign(stress_component_count * points, 0.0);
+    criterion = std::make_unique<DangVanField>(count, setup.dang_van, setup.dang_van_settings);
+    now.assign(stress_component_count * count, 0.0);
   }
 
   ContactEdgeRisk::~ContactEdgeRisk() = default;
@@ -268,10 +279,12 @@ namespace fretsim::contact
         worst = m;
     if (worst == risk_max.size())
       return result;
-    result.value = risk_max[worst];
-    result.x     = points_x[worst];
-    result.y     = points_y[worst];
-    result.step  = criterion->risk_max_step()[worst];
+    result.value        = risk_max[worst];
+    result.x            = points_x[worst];
+    result.y            = points_y[worst];
+    result.step         = criterion->risk_max_step()[worst];
+    result.on_edge      = worst < per_circle;
+    result.slip_annulus = setup.stick_radius > 0.0 ? setup.contact_radius - setup.stick_radius : 0.0;
     return result;
   }
 } // namespace fretsim::contact

@@ -171,7 +171,8 @@ namespace fretsim::contact
         setup.exact.masing_level_spacing > 0.0)
       if (const MasingTraction *model = masing_traction(*traction_model))
         {
-          // The edge and its interpolation stencils a cell inside the grid.
+          // The edge and its interpolation stencils a cell inside the grid; a
+          // second circle on the stick zone's largest front.
           const auto [a, a_y] = setup.hertz_semi_axes();
           const double half_width = std::min(-surface.x_min, -surface.y_min);
           if (a + 1.5 * std::max(surface.hx, surface.hy) < half_width)
@@ -183,6 +184,11 @@ namespace fretsim::contact
               edge_case.gross_slip_shift     = 3.0 * setup.friction_coefficient * setup.normal_load /
                                            (16.0 * setup.materials.tangential_modulus() * a);
               edge_case.level_spacing     = setup.exact.masing_level_spacing;
+              // The virgin loading's largest shift is the amplitude, and no
+              // branch of Masing's rule reaches beyond it.
+              const double amplitude = std::abs(setup.sliding_amplitude);
+              if (amplitude < edge_case.gross_slip_shift)
+                edge_case.stick_radius = a * std::sqrt(1.0 - amplitude / edge_case.gross_slip_shift);
               edge_case.sliding_angle     = setup.sliding_direction;
               edge_case.poisson_ratio     = setup.materials.lower.poisson_ratio;
               edge_case.dang_van          = setup.dang_van;

@@ -51,7 +51,70 @@ namespace fretsim::scenes
         result = std::max(result, value);
       return result;
     }
+
+    /// The grid's D_max below the surface: on the surface the contact's
+    /// fronts (contact::ContactEdgeRisk) stand for the grid, whose cell
+    /// centres sample their cusps from below.
+    contact::RiskMaximum risk_below_surface(const contact::FrettingRun &run, const std::vector<double> &depths)
+    {
+      const contact::SurfaceGrid &grid     = run.grid();
+      const std::vector<double>  &risk_max = run.risk_max();
+      contact::RiskMaximum        result;
+      for (std::size_t layer = 0; layer < depths.size(); ++layer)
+        if (depths[layer] > 0.0)
+          for (std::size_t cell = 0; cell < grid.size(); ++cell)
+            {
+              const double value = risk_max[layer * grid.size() + cell];
+              if (std::isfinite(value) && value > result.value)
+                result = {value, static_cast<int>(cell % grid.nx), static_cast<int>(cell / grid.nx),
+                          static_cast<int>(layer), -1};
+            }
+      return result;
+    }
   } // namespace
+
+  ConcentratedContactScene::RiskConvergence::Interval ConcentratedContactScene::RiskConvergence::edge_interval() const
+  {
+    const auto  &e      = edge->edge;
+    const double centre = e[2] + edge->edge_time_step_correction;
+    const double bar    = std::max({std::abs(e[2] - e[1]), std::abs(e[1] - e[0]), 0.005 * std::abs(centre)}) +
+                       2.0 * std::abs(edge->edge_time_step_correction);
+    if (!edge->annulus_resolved)
+      return {std::min(centre - bar, risk[2]), centre + bar};
+    return {centre - bar, centre + bar};
+  }
+
+  ConcentratedContactScene::RiskConvergence::Interval ConcentratedContactScene::RiskConvergence::below_interval() const
+  {
+    const double centre = edge->below_grid.converged + edge->below_time_step_correction;
+    const double bar    = edge->below_grid.error_estimate + 2.0 * std::abs(edge->below_time_step_correction);
+    return {centre - bar, centre + bar};
+  }
+
+  std::string ConcentratedContactScene::RiskConvergence::hot_spot() const
+  {
+    if (!edge)
+      return "grid";
+    const Interval on = edge_interval(), below = below_interval();
+    return on.low >= below.high ? "surface" : below.low >= on.high ? "below the surface" : "surface or below";
+  }
+
+  double ConcentratedContactScene::RiskConvergence::converged() const
+  {
+    if (!edge)
+      return grid.converged + time_step_correction;
+    // The larger of two uncertain limits lies between the larger lows and the larger highs.
+    const Interval on = edge_interval(), below = below_interval();
+    return 0.5 * (std::max(on.low, below.low) + std::max(on.high, below.high));
+  }
+
+  double ConcentratedContactScene::RiskConvergence::error_estimate() const
+  {
+    if (!edge)
+      return grid.error_estimate + 2.0 * std::abs(time_step_correction);
+    const Interval on = edge_interval(), below = below_interval();
+    return 0.5 * (std::max(on.high, below.high) - std::max(on.low, below.low));
+  }
 
   std::vector<app::ParameterSpec> ConcentratedContactScene::parameter_specs()
   {
@@ -568,6 +631,7 @@ namespace fretsim::scenes
     bool                     check_model       = false;
     std::vector<double>      risk;
     std::vector<double>      edge_risk; ///< the runs' D_max on the contact edge, NaN where not evaluated
+    std::vector<double>      below_risk; ///< and their grid's D_max below the surface (risk_below_surface)
     std::vector<std::string> failure;
     std::atomic<std::size_t> next{0};
     std::atomic<std::size_t> working{0}; ///< threads still on the runs
@@ -615,7 +679,10 @@ namespace fretsim::scenes
               }
             risk[k] = run.risk_maximum().value;
             if (const auto edge = run.edge_risk_maximum())
-              edge_risk[k] = edge->value;
+              {
+                edge_risk[k] = edge->value;
+                below_risk[k] = risk_below_surface(run, fretting_case->depth_layers).value;
+              }
           }
         catch (const std::exception &error)
           {
@@ -785,6 +852,7 @@ namespace fretsim::scenes
     r.half_width_factor = s.half_width_factor;
     r.risk.assign(r.check_model ? 5 : 3, 0.0); // [3]: the check's exact run, [4]: its model's D_max
     r.edge_risk.assign(r.risk.size(), std::numeric_limits<double>::quiet_NaN());
+    r.below_risk = r.edge_risk;
     r.failure.assign(r.runs.size(), std::string());
     return reruns;
   }
@@ -799,8 +867,16 @@ namespace fretsim::scenes
     if (const auto edge = finest.edge_risk_maximum();
         edge && std::isfinite(r.edge_risk[0]) && std::isfinite(r.edge_risk[1]) && std::isfinite(r.edge_risk[2]))
       {
-        convergence.edge_risk                 = std::array<double, 3>{r.edge_risk[2], r.edge_risk[0], edge->value};
-        convergence.edge_time_step_correction = r.edge_risk[1] - r.edge_risk[2];
+        RiskConvergence::EdgeStudy study;
+        study.edge                      = {r.edge_risk[2], r.edge_risk[0], edge->value};
+        study.below                      = {r.below_risk[2], r.below_risk[0],
+                                           risk_below_surface(finest, fretting_case.depth_layers).value};
+        study.edge_time_step_correction = r.edge_risk[1] - r.edge_risk[2];
+        study.below_time_step_correction = r.below_risk[1] - r.below_risk[2];
+        study.below_grid = contact::richardson_estimate(study.below[2], study.below[1], study.below[0]);
+        study.annulus_resolved =
+          edge->on_edge || edge->slip_annulus >= 2.0 * std::max(finest.grid().hx, finest.grid().hy);
+        convergence.edge = study;
       }
     // First order in the time step: the limit lies as far beyond the half
     // step as the half step lies beyond the full one.
@@ -981,20 +1057,29 @@ namespace fretsim::scenes
     const auto &c = *convergence;
     summary.set("risk_max_converged", c.converged());
     summary.set("risk_max_error_estimate", c.error_estimate());
-    summary.set("risk_max_converged_location_m",
-                c.from_edge() ? std::vector<double>{edge->x, edge->y, 0.0} : std::vector<double>{x, y, z});
+    std::vector<double> where{x, y, z};
+    if (c.edge)
+      {
+        const auto below = risk_below_surface(run, s.depth_layers);
+        where = c.edge_interval().high >= c.below_interval().high ?
+                  std::vector<double>{edge->x, edge->y, 0.0} :
+                  std::vector<double>{run.grid().x(below.i), run.grid().y(below.j), s.depth_layers[below.layer]};
+      }
+    summary.set("risk_max_converged_location_m", where);
     output::Summary study;
     study.set("method",
-              std::string(c.from_edge() ?
-                            "the contact edge's D_max (its square-root shapes in closed form, the rest from the grid) "
-                            "on the finest grid, bar: its larger change over grids of 4h, 2h and h; plus the time "
-                            "step's first-order correction from the coarsest grid at half the step, bar: twice that "
-                            "correction" :
+              std::string(c.edge ?
+                            "the larger of two limits: on the surface the D_max of the contact's fronts (its edge "
+                            "and the stick zone's largest boundary; the square-root shapes in closed form, the rest "
+                            "from the grid) on the finest grid, bar: its larger change over grids of 4h, 2h and h, "
+                            "at least 0.5 %; below the surface the grid's D_max by Richardson extrapolation at "
+                            "order 1/2; each plus its time step's first-order correction from the coarsest grid at "
+                            "half the step, bar: twice that correction" :
                             "Richardson extrapolation over grids of 4h, 2h and h at the square-root edge's order "
                             "1/2, bar: the larger grid difference carried to the limit; plus the time step's "
                             "first-order correction from the coarsest grid at half the step, bar: twice that "
                             "correction"));
-    study.set("hot_spot", std::string(c.from_edge() ? "contact edge" : "grid"));
+    study.set("hot_spot", c.hot_spot());
     study.set("cells_x", std::vector<double>(c.cells.begin(), c.cells.end()));
     study.set("risk_max", std::vector<double>(c.risk.begin(), c.risk.end()));
     study.set("grid_limit", c.grid.converged);
@@ -1002,10 +1087,14 @@ namespace fretsim::scenes
     study.set("observed_order", c.grid.observed_order);
     study.set("asymptotic", c.grid.asymptotic);
     study.set("time_step_correction", c.time_step_correction);
-    if (c.edge_risk)
+    if (c.edge)
       {
-        study.set("edge_risk_max", std::vector<double>(c.edge_risk->begin(), c.edge_risk->end()));
-        study.set("edge_time_step_correction", c.edge_time_step_correction);
+        study.set("surface_risk_max", std::vector<double>(c.edge->edge.begin(), c.edge->edge.end()));
+        study.set("surface_time_step_correction", c.edge->edge_time_step_correction);
+        study.set("surface_limit", std::vector<double>{c.edge_interval().low, c.edge_interval().high});
+        study.set("below_surface_risk_max", std::vector<double>(c.edge->below.begin(), c.edge->below.end()));
+        study.set("below_surface_time_step_correction", c.edge->below_time_step_correction);
+        study.set("below_surface_limit", std::vector<double>{c.below_interval().low, c.below_interval().high});
       }
     summary.set_object("risk_convergence", study);
     if (c.model_and_exact_risk)

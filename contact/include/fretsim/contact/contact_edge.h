@@ -1,10 +1,12 @@
 #pragma once
-// The Dang Van risk on the edge of a circular contact under the exact masing
-// traction. Pressure and traction end in square roots there, and the surface
-// stress peaks in a cusp a cell-centred sample misses: the grid's D_max
-// converges as h^(1/2). Here each load is split into the square-root shapes of
-// Hertz and Cattaneo-Mindlin, whose surface stresses are closed forms, and a
-// remainder that is smooth at the edge, interpolated from the grid's stresses
+// The Dang Van risk on the fronts of a circular contact under the exact masing
+// traction: its edge, where pressure and traction end in square roots, and
+// the stick zone's boundary at the largest shift, where the traction's
+// Cattaneo-Mindlin correction does. The surface stress peaks in a cusp there
+// that cell-centred samples miss: the grid's D_max converges as h^(1/2). Here
+// each load is split into the square-root shapes of Hertz and
+// Cattaneo-Mindlin, whose surface stresses are closed forms, and a remainder
+// that is smooth at the fronts, interpolated from the grid's stresses
 // (docs/theory.md §2.4). On the paper's case the edge's D_max is within 0.5 %
 // of its limit from 64^2 cells on.
 #include <fretsim/contact/dang_van.h>
@@ -43,33 +45,45 @@ namespace fretsim::contact
     /// shift s sticks within c = a sqrt(1 - s / that).
     double gross_slip_shift = 0.0;
     double level_spacing    = 0.0; ///< of the masing traction's virgin levels [m]
-    double sliding_angle    = 0.0; ///< [rad] from x
+    /// The stick zone's radius at the history's largest shift [m], where a
+    /// second circle of points goes; 0: none (gross slip).
+    double stick_radius  = 0.0;
+    double sliding_angle = 0.0; ///< [rad] from x
     double poisson_ratio    = 0.0; ///< of the lower body, whose stresses are evaluated
     DangVanConstants        dang_van;
     DangVanSettings         dang_van_settings;
     StressEvaluatorSettings stress_evaluator;
   };
 
-  /// D_max on the edge and where.
+  /// D_max on the fronts and where.
   struct ContactEdgeRiskMaximum
   {
     double       value = 0.0;
     double       x = 0.0, y = 0.0; ///< [m], on the surface
     std::int64_t step  = -1;       ///< 0-based step that set it
+    bool         on_edge = true;   ///< on the edge circle, not in the slip annulus
+    double       slip_annulus = 0.0; ///< contact radius less the stick radius [m] (0: no stick front)
   };
 
-  /// The criterion on points of the contact edge, stepped with the history:
-  /// call add_step() after each step of the masing traction.
+  /// The criterion on points of the contact edge and of the stick zone's
+  /// largest front, stepped with the history: call add_step() after each step
+  /// of the masing traction.
   class ContactEdgeRisk
   {
   public:
-    /// Points on the edge circle, one at the sliding direction: 64 suffice (the
+    /// Points on each circle, one at the sliding direction: 64 suffice (the
     /// risk varies as cos^2 of the angle away from its maximum).
     static constexpr int default_points = 64;
+    /// Circles from the stick zone's largest front toward the edge, the front
+    /// included (its spacing, a fraction of the slip annulus, bounds how far
+    /// an interior peak of the risk can fall between them).
+    static constexpr int annulus_circles = 8;
 
     /// `pressure` is the run's (numerical or sampled Hertz). Throws
     /// std::invalid_argument if the edge does not lie a cell inside the grid
-    /// or a parameter is not positive.
+    /// or a parameter is not positive. Points [0, points) lie on the edge,
+    /// the next `points` on the stick zone's front and the following ones on
+    /// the circles between them (if there is a front).
     ContactEdgeRisk(const ContactEdgeCase &edge_case, const SurfaceGrid &grid, const Field &pressure,
                     int points = default_points);
     ~ContactEdgeRisk();
@@ -81,7 +95,7 @@ namespace fretsim::contact
                   const std::array<double, stress_component_count> &surface_bulk);
 
     ContactEdgeRiskMaximum maximum() const;
-    /// The stresses of the last step on the edge points, Voigt [Pa].
+    /// The stresses of the last step on the points, Voigt [Pa].
     const std::vector<double> &stress() const { return now; }
     std::size_t                point_count() const { return points_x.size(); }
 
@@ -95,6 +109,7 @@ namespace fretsim::contact
 
     ContactEdgeCase                   setup;
     SurfaceGrid                       grid;
+    std::size_t                       per_circle = 0;
     std::vector<double>               points_x, points_y;
     std::vector<std::array<double, 4>> weights;
     std::vector<std::array<std::size_t, 4>> cells;

@@ -4,13 +4,16 @@ grid of N cells and on one of 4N, each with its own converged D_max and error
 estimate (risk_max_converged, risk_max_error_estimate). The bar of the coarse
 run must hold the fine run's converged value.
 
-    scripts/study_risk_error.py [-o DIR] [--cells 128] [--cases paper,elliptical,titanium,aluminium]
+    scripts/study_risk_error.py [-o DIR] [--cells 128] [--cases paper,elliptical,titanium,aluminium,small_amplitude]
+    scripts/study_risk_error.py --cells 64 --cases gross_slip,mu_1,mu_1_gross_slip,aluminium_small,hypersphere,oblique_bulk
 
 Prints a table and writes DIR/risk_error.csv. The cases: the paper's (steel
 ball on steel flat), an elliptical steel contact (Ry/Rx = 3, mu = 0.3), a
 titanium flat under a steel ball (mu = 0.6, Ti-6Al-4V's fatigue limits) and an
-aluminium flat under a steel ball (mu = 0.8, 7075-T6's fatigue limits). Two
-cycles of 100 steps (the running-mean risk peaks in the first cycle).
+aluminium flat under a steel ball (mu = 0.8, 7075-T6's fatigue limits) and the
+paper's case at mu = 0.1 and 5 % of its gross-slip shift (the risk peaks in the
+thin slip annulus). Two cycles of 100 steps (the running-mean risk peaks in the
+first cycle).
 """
 import argparse
 import csv
@@ -35,6 +38,20 @@ CASES = {
                   "Loading/Normal load": "100", "Friction/Friction coefficient": "0.8",
                   "Loading/Sliding amplitude": "1.5e-6",
                   "Dang Van/Bending fatigue limit": "160e6", "Dang Van/Torsion fatigue limit": "100e6"},
+    "small_amplitude": {"Friction/Friction coefficient": "0.1", "Loading/Sliding amplitude": "0.07e-6"},
+}
+# More regimes of the paper's case, run with --cells 64 --cases ...: gross
+# slip, mu = 1, a softer flat, the hypersphere centre after a warm-up cycle,
+# an oblique sliding direction under a bulk stress.
+MORE_CASES = {
+    "gross_slip": {"Friction/Friction coefficient": "0.1", "Loading/Sliding amplitude": "1.7e-6"},
+    "mu_1": {"Friction/Friction coefficient": "1.0", "Loading/Sliding amplitude": "6.9e-6"},
+    "mu_1_gross_slip": {"Friction/Friction coefficient": "1.0", "Loading/Sliding amplitude": "17e-6"},
+    "aluminium_small": {"Materials/Lower body/Young's modulus": "70e9", "Materials/Lower body/Poisson ratio": "0.33",
+                        "Friction/Friction coefficient": "0.3", "Loading/Sliding amplitude": "0.5e-6"},
+    "hypersphere": {"Dang Van/Residual stress": "hypersphere", "Dang Van/Warm-up cycles": "1", "Loading/Cycles": "3"},
+    "oblique_bulk": {"Loading/Sliding direction": "1.0472", "Bulk stress/Static xx": "200e6",
+                     "Bulk stress/Amplitude yy": "100e6"},
 }
 
 
@@ -62,7 +79,8 @@ def main():
     for name in args.cases.split(","):
         results = {}
         for cells in (args.cells, 4 * args.cells):
-            settings = dict(COMMON, **CASES[name], **{"Grid/Cells x": str(cells), "Grid/Cells y": str(cells)})
+            settings = dict(COMMON, **{**CASES, **MORE_CASES}[name],
+                            **{"Grid/Cells x": str(cells), "Grid/Cells y": str(cells)})
             summary = run(args.program, os.path.join(args.output, f"{name}-{cells}"), settings)
             results[cells] = summary
             print(f"{name:<12}{cells:>6}{summary['risk_max']:>9.4f}{summary['risk_max_converged']:>11.4f}"

@@ -111,9 +111,9 @@ TEST(SceneRisk, TheConvergedRiskOfACoarseRunHoldsTheFineOne)
   // The shipped model (exact masing) on N^2 cells and on 4 times finer, each
   // with its estimate over h, 2h, 4h (2 cycles of 100 steps: the running-mean
   // risk peaks in the first). From 64^2 on the converged value is the contact
-  // edge's D_max; at 32^2 the coarsest rerun (8^2) cannot place the edge and
+  // fronts' D_max; at 32^2 the coarsest rerun (8^2) cannot place the edge and
   // the grid's Richardson limit is taken. Measured: 32^2 0.859 +- 0.457 (grid),
-  // 128^2 1.0048 +- 0.0144; 64^2 1.0032 +- 0.0468, 256^2 1.0009 +- 0.0055 (edge).
+  // 128^2 1.0048 +- 0.0144; 64^2 1.0032 +- 0.0468, 256^2 1.0009 +- 0.0067 (surface).
   // The study on 128^2 against 512^2 (scripts/study_risk_error.py) is the real test.
   const std::vector<std::pair<std::string, std::string>> history{
     {"Cycles", "2"}, {"Steps per cycle", "100"}, {"Field snapshots per cycle", "0"}};
@@ -152,7 +152,7 @@ TEST(SceneRisk, TheConvergedRiskOfACoarseRunHoldsTheFineOne)
       EXPECT_LT(summary_number(fine, "traction_model_error_estimate"), 0.01);
     }
   EXPECT_EQ(hot_spot(runs["32"]), "grid");
-  // On 256^2 cells the edge's bar is within 1 % (measured 0.55 %), taken on
+  // On 256^2 cells the bar is within 1 % (measured 0.67 %), taken on
   // the edge point in the sliding direction.
   EXPECT_LT(summary_number(runs["256"], "risk_max_error_estimate"), 0.01);
   const std::vector<double> where = summary_vector(runs["256"], "risk_max_converged_location_m");

@@ -91,14 +91,16 @@ namespace fretsim::contact
 
   StressTensor hertz_shear_surface_stress(double x, double y, double c, double nu, double angle)
   {
-    // Along y: the x shape reflected in the plane x = y.
-    const StressTensor along_x = shear_x_shape(x, y, c, nu), mirrored = shear_x_shape(y, x, c, nu);
+    // Along y: the x shape reflected in the plane x = y. Each part only where
+    // the direction has a component along it.
+    const double ca = std::cos(angle), sa = std::sin(angle);
+    const StressTensor along_x  = ca != 0.0 ? shear_x_shape(x, y, c, nu) : StressTensor{};
+    const StressTensor mirrored = sa != 0.0 ? shear_x_shape(y, x, c, nu) : StressTensor{};
     StressTensor       along_y;
     along_y.xx = mirrored.yy;
     along_y.yy = mirrored.xx;
     along_y.yz = mirrored.xz;
     along_y.xy = mirrored.xy;
-    const double ca = std::cos(angle), sa = std::sin(angle);
     StressTensor s;
     for (int k = 0; k < stress_component_count; ++k)
       s[k] = ca * along_x[k] + sa * along_y[k];

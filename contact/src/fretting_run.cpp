@@ -3,6 +3,7 @@
 #include <fretsim/contact/fretting_loop.h>
 #include <fretsim/contact/hertz.h>
 #include <fretsim/contact/masing_traction.h>
+#include <fretsim/contact/mindlin.h>
 
 #include <algorithm>
 #include <array>
@@ -181,15 +182,19 @@ namespace fretsim::contact
               edge_case.contact_radius       = a;
               edge_case.peak_pressure        = setup.hertz_peak_pressure();
               edge_case.friction_coefficient = setup.friction_coefficient;
-              edge_case.gross_slip_shift     = 3.0 * setup.friction_coefficient * setup.normal_load /
-                                           (16.0 * setup.materials.tangential_modulus() * a);
+              if (setup.friction_coefficient > 0.0)
+                edge_case.gross_slip_shift =
+                  MindlinLoop(setup.friction_coefficient, setup.normal_load, a, setup.materials.tangential_modulus())
+                    .gross_slip_displacement();
               edge_case.level_spacing     = setup.exact.masing_level_spacing;
               // The virgin loading's largest shift is the amplitude, and no
               // branch of Masing's rule reaches beyond it.
               const double amplitude = std::abs(setup.sliding_amplitude);
               if (amplitude < edge_case.gross_slip_shift)
                 edge_case.stick_radius = a * std::sqrt(1.0 - amplitude / edge_case.gross_slip_shift);
-              edge_case.sliding_angle     = setup.sliding_direction;
+              // The virgin levels point along the first shift: for a negative
+              // amplitude, opposite to the sliding direction.
+              edge_case.sliding_angle = setup.sliding_direction + (setup.sliding_amplitude < 0.0 ? M_PI : 0.0);
               edge_case.poisson_ratio     = setup.materials.lower.poisson_ratio;
               edge_case.dang_van          = setup.dang_van;
               edge_case.dang_van_settings = settings;

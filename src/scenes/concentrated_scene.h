@@ -130,9 +130,12 @@ namespace fretsim::scenes
       /// "surface" or "below the surface" when one interval lies above the
       /// other, else "surface or below"; "grid" without the fronts.
       std::string hot_spot() const;
-      /// The limit of zero cell size and time step: with the edge, the middle
-      /// of the interval of the larger of the two limits; else the grid's
-      /// Richardson limit plus the time-step correction.
+      /// With the fronts: the interval the larger of the two limits lies in,
+      /// raised to the grid's own D_max on the run's grid where that is higher.
+      Interval interval() const;
+      /// The limit of zero cell size and time step: with the fronts, the middle
+      /// of interval(); else the grid's Richardson limit plus the time-step
+      /// correction.
       double converged() const;
       /// Its bar: half that interval, or the grid's bar and twice the
       /// time-step correction (the coarsest grid underestimates the time-step

@@ -7,8 +7,7 @@
 // each load is split into the square-root shapes of Hertz and
 // Cattaneo-Mindlin, whose surface stresses are closed forms, and a remainder
 // that is smooth at the fronts, interpolated from the grid's stresses
-// (docs/theory.md §2.4). On the paper's case the edge's D_max is within 0.5 %
-// of its limit from 64^2 cells on.
+// (docs/theory.md §2.4, its convergence in docs/concentrated.md).
 #include <fretsim/contact/dang_van.h>
 #include <fretsim/contact/masing_traction.h>
 #include <fretsim/contact/rectangle_kernels.h>
@@ -48,7 +47,7 @@ namespace fretsim::contact
     /// The stick zone's radius at the history's largest shift [m], where a
     /// second circle of points goes; 0: none (gross slip).
     double stick_radius  = 0.0;
-    double sliding_angle = 0.0; ///< [rad] from x
+    double sliding_angle = 0.0; ///< [rad] from x: the virgin levels' direction
     double poisson_ratio    = 0.0; ///< of the lower body, whose stresses are evaluated
     DangVanConstants        dang_van;
     DangVanSettings         dang_van_settings;
@@ -75,8 +74,8 @@ namespace fretsim::contact
     /// risk varies as cos^2 of the angle away from its maximum).
     static constexpr int default_points = 64;
     /// Circles from the stick zone's largest front toward the edge, the front
-    /// included (its spacing, a fraction of the slip annulus, bounds how far
-    /// an interior peak of the risk can fall between them).
+    /// included: a peak of the risk inside the slip annulus is taken on the
+    /// nearest of them (an eighth of the annulus apart).
     static constexpr int annulus_circles = 8;
 
     /// `pressure` is the run's (numerical or sampled Hertz). Throws

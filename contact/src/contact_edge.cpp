@@ -1,5 +1,7 @@
 #include <fretsim/contact/contact_edge.h>
 
+#include <fretsim/contact/hertz.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -54,17 +56,6 @@ namespace fretsim::contact
       return s;
     }
 
-    Field hertz_shape(const SurfaceGrid &grid, double radius)
-    {
-      Field shape = grid.zeros();
-      for (int j = 0; j < grid.ny; ++j)
-        for (int i = 0; i < grid.nx; ++i)
-          {
-            const double r2 = (grid.x(i) * grid.x(i) + grid.y(j) * grid.y(j)) / (radius * radius);
-            shape[grid.index(i, j)] = std::sqrt(std::max(0.0, 1.0 - r2));
-          }
-      return shape;
-    }
   } // namespace
 
   StressTensor hertz_pressure_surface_stress(double x, double y, double c, double nu)
@@ -107,6 +98,15 @@ namespace fretsim::contact
     return s;
   }
 
+  bool ContactEdgeRisk::fits(const SurfaceGrid &grid, double contact_radius)
+  {
+    // A point's stencil reaches the cell centres around it: half a cell
+    // beyond the point, the border half a cell beyond those.
+    const double half_width = std::min({-grid.x_min, -grid.y_min, grid.x_min + grid.nx * grid.hx,
+                                        grid.y_min + grid.ny * grid.hy});
+    return contact_radius + 1.5 * std::max(grid.hx, grid.hy) < half_width;
+  }
+
   ContactEdgeRisk::ContactEdgeRisk(const ContactEdgeCase &edge_case, const SurfaceGrid &surface,
                                    const Field &pressure, int points)
     : setup(edge_case)
@@ -122,6 +122,8 @@ namespace fretsim::contact
                                   "must be positive, friction, gross-slip shift and stick radius at least 0, the "
                                   "stick radius below the contact radius");
     const double a = setup.contact_radius;
+    if (!fits(grid, a))
+      throw std::invalid_argument("contact edge risk: the contact edge must lie a cell inside the grid");
     // The edge, the stick zone's largest front and circles between them: the
     // risk can peak anywhere in the slip annulus, its cusps at either end.
     std::vector<double> radii{a};
@@ -136,8 +138,6 @@ namespace fretsim::contact
         const double x = r * std::cos(theta), y = r * std::sin(theta);
         const double fx = (x - grid.x_min) / grid.hx - 0.5, fy = (y - grid.y_min) / grid.hy - 0.5;
         const int    i = static_cast<int>(std::floor(fx)), j = static_cast<int>(std::floor(fy));
-        if (i < 0 || j < 0 || i + 1 >= grid.nx || j + 1 >= grid.ny)
-          throw std::invalid_argument("contact edge risk: the contact edge must lie a cell inside the grid");
         const double wx = fx - i, wy = fy - j;
         points_x.push_back(x);
         points_y.push_back(y);
@@ -148,7 +148,7 @@ namespace fretsim::contact
 
     // The pressure: its Hertz shape in closed form, the rest interpolated.
     const double p0     = setup.peak_pressure;
-    const Field  shape_a = hertz_shape(grid, a);
+    const Field  shape_a = sampled_hertz_pressure(grid, a, a, 1.0);
     Field        rest   = pressure;
     for (std::size_t c = 0; c < rest.size(); ++c)
       rest[c] -= p0 * shape_a[c];
@@ -220,7 +220,7 @@ namespace fretsim::contact
         if (c > 0.0)
           {
             const double ca = std::cos(setup.sliding_angle), sa = std::sin(setup.sliding_angle);
-            const Field  shape_c = hertz_shape(grid, c);
+            const Field  shape_c = sampled_hertz_pressure(grid, c, c, 1.0);
             for (std::size_t cell = 0; cell < shape_c.size(); ++cell)
               {
                 load_x[cell] += amplitude * (c / a) * ca * shape_c[cell];

@@ -48,20 +48,6 @@ namespace fretsim::contact
             grid.x(i) * grid.x(i) / (2.0 * c.radius_x) + grid.y(j) * grid.y(j) / (2.0 * c.radius_y);
       return gap;
     }
-
-    Field hertz_pressure(const FrettingCase &c, const SurfaceGrid &grid)
-    {
-      const auto [ax, ay] = c.hertz_semi_axes();
-      const double p0     = c.hertz_peak_pressure();
-      Field        pressure = grid.zeros();
-      for (int j = 0; j < grid.ny; ++j)
-        for (int i = 0; i < grid.nx; ++i)
-          {
-            const double ex = grid.x(i) / ax, ey = grid.y(j) / ay;
-            pressure[grid.index(i, j)] = p0 * std::sqrt(std::max(0.0, 1.0 - ex * ex - ey * ey));
-          }
-      return pressure;
-    }
   } // namespace
 
   bool BulkStress::is_zero() const
@@ -142,7 +128,10 @@ namespace fretsim::contact
         normal_solver_iterations         = result.iterations;
       }
     else
-      contact_pressure = hertz_pressure(setup, surface);
+      {
+        const auto [ax, ay] = setup.hertz_semi_axes();
+        contact_pressure    = sampled_hertz_pressure(surface, ax, ay, setup.hertz_peak_pressure());
+      }
     times.normal_contact = seconds_since(start);
 
     if (!stresses)
@@ -172,11 +161,8 @@ namespace fretsim::contact
         setup.exact.masing_level_spacing > 0.0)
       if (const MasingTraction *model = masing_traction(*traction_model))
         {
-          // The edge and its interpolation stencils a cell inside the grid; a
-          // second circle on the stick zone's largest front.
           const auto [a, a_y] = setup.hertz_semi_axes();
-          const double half_width = std::min(-surface.x_min, -surface.y_min);
-          if (a + 1.5 * std::max(surface.hx, surface.hy) < half_width)
+          if (ContactEdgeRisk::fits(surface, a))
             {
               ContactEdgeCase edge_case;
               edge_case.contact_radius       = a;

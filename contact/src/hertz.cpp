@@ -184,4 +184,16 @@ namespace fretsim::contact
     const double s  = 1.0 - xi * xi - eta * eta;
     return s > 0.0 ? peak_pressure * std::sqrt(s) : 0.0;
   }
+
+  Field sampled_hertz_pressure(const SurfaceGrid &grid, double semi_axis_x, double semi_axis_y, double peak)
+  {
+    Field pressure = grid.zeros();
+    for (int j = 0; j < grid.ny; ++j)
+      for (int i = 0; i < grid.nx; ++i)
+        {
+          const double ex = grid.x(i) / semi_axis_x, ey = grid.y(j) / semi_axis_y;
+          pressure[grid.index(i, j)] = peak * std::sqrt(std::max(0.0, 1.0 - ex * ex - ey * ey));
+        }
+    return pressure;
+  }
 } // namespace fretsim::contact

@@ -876,9 +876,9 @@ namespace fretsim::scenes
         edge && std::isfinite(r.edge_risk[0]) && std::isfinite(r.edge_risk[1]) && std::isfinite(r.edge_risk[2]))
       {
         RiskConvergence::EdgeStudy study;
+        study.below_maximum             = risk_below_surface(finest, fretting_case.depth_layers);
         study.edge                      = {r.edge_risk[2], r.edge_risk[0], edge->value};
-        study.below                      = {r.below_risk[2], r.below_risk[0],
-                                           risk_below_surface(finest, fretting_case.depth_layers).value};
+        study.below                     = {r.below_risk[2], r.below_risk[0], study.below_maximum.value};
         study.edge_time_step_correction = r.edge_risk[1] - r.edge_risk[2];
         study.below_time_step_correction = r.below_risk[1] - r.below_risk[2];
         study.below_grid = contact::richardson_estimate(study.below[2], study.below[1], study.below[0]);
@@ -1068,7 +1068,7 @@ namespace fretsim::scenes
     std::vector<double> where{x, y, z};
     if (c.edge)
       {
-        const auto below = risk_below_surface(run, s.depth_layers);
+        const auto &below = c.edge->below_maximum;
         where = c.edge_interval().high >= c.below_interval().high ?
                   std::vector<double>{edge->x, edge->y, 0.0} :
                   std::vector<double>{run.grid().x(below.i), run.grid().y(below.j), s.depth_layers[below.layer]};

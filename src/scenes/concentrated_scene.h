@@ -108,6 +108,7 @@ namespace fretsim::scenes
         std::array<double, 3>       edge{}, below{};
         double                      edge_time_step_correction = 0.0, below_time_step_correction = 0.0;
         contact::RichardsonEstimate below_grid;
+        contact::RiskMaximum        below_maximum; ///< on the finest grid, where
         /// False when the fronts' maximum lies in a slip annulus narrower than
         /// two of the finest grid's cells: its remainder is then not resolved,
         /// and the grid's D_max (which samples the peak from below) bounds the

@@ -78,9 +78,12 @@ namespace fretsim::contact
     /// nearest of them (an eighth of the annulus apart).
     static constexpr int annulus_circles = 8;
 
+    /// True if the edge circle of `contact_radius` and its interpolation
+    /// stencils lie inside the (centred) grid, with half a cell to spare.
+    static bool fits(const SurfaceGrid &grid, double contact_radius);
+
     /// `pressure` is the run's (numerical or sampled Hertz). Throws
-    /// std::invalid_argument if the edge does not lie a cell inside the grid
-    /// or a parameter is not positive. Points [0, points) lie on the edge,
+    /// std::invalid_argument unless fits() or if a parameter is not positive. Points [0, points) lie on the edge,
     /// the next `points` on the stick zone's front and the following ones on
     /// the circles between them (if there is a front).
     ContactEdgeRisk(const ContactEdgeCase &edge_case, const SurfaceGrid &grid, const Field &pressure,

@@ -1,6 +1,7 @@
 #pragma once
 // Closed-form Hertz solutions (Johnson 1985 §4.2; Hamrock's exact elliptic
 // form, docs/references.md §1). SI units throughout.
+#include <fretsim/contact/surface_grid.h>
 
 namespace fretsim::contact
 {
@@ -38,4 +39,8 @@ namespace fretsim::contact
                                  double contact_modulus);
     double pressure(double x, double y) const;
   };
+
+  /// peak sqrt(1 - x^2/ax^2 - y^2/ay^2) at the cell centres of `grid`, 0
+  /// outside the ellipse [Pa, or per unit peak].
+  Field sampled_hertz_pressure(const SurfaceGrid &grid, double semi_axis_x, double semi_axis_y, double peak);
 } // namespace fretsim::contact

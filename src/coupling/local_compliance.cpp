@@ -51,6 +51,14 @@ namespace fretsim::coupling
     double                      self = 0.0; ///< the largest diagonal entry of C [m/Pa]
     double                      uniform = 0.0; ///< the largest displacement under p = 1 everywhere [m/Pa]
     contact::Field              response, gap, direction, masked, preconditioned; // work arrays of solve()
+    /// The layer's closure (set_closure_pressure): p_c [Pa], 0 for the sharp
+    /// one, and the closure's compliance D per cell at the last solve [m/Pa]
+    /// (empty when that solve left every cell at zero).
+    double                      closure_pressure = 0.0;
+    std::vector<double>         closure_diagonal;
+    /// The closure's offset s and decay length δ in units of δ, and where
+    /// its tail is cut [-].
+    static constexpr double     closure_offset = 10.0, closure_cut = 30.0;
     Statistics                  statistics;
     /// The last sensitivity per grid cell and column: the next one's start,
     /// or the answer itself while the loaded cells stay nearly the same (the
@@ -91,6 +99,146 @@ namespace fretsim::coupling
       compliance.apply(contact::Field(g.size(), 1.0), response);
       uniform = *std::max_element(response.begin(), response.end()) + layer_compliance;
     }
+
+    /// The closure's Newton iteration (LocalCompliance::solve): per cell in
+    /// the tail or beyond, r = (C + I/k_n) p − b + s + δ ln(1 − e^(−p/p_c)),
+    /// the gradient of a strictly convex energy whose Hessian
+    /// C + I/k_n + D is symmetric positive definite. Each step by
+    /// conjugate gradients, preconditioned by the FFT inverse on the cells
+    /// stiffer than their own closure (D ≤ C_cc) and by the diagonal on the
+    /// others; a step never lowers a pressure below a tenth of itself (the
+    /// logarithm's barrier). Returns the convolutions.
+    int solve_with_closure(const contact::Field &b, contact::Field &p)
+    {
+      const std::size_t cells    = grid.size();
+      const double      decay    = closure_pressure * layer_compliance; // δ [m]
+      const double      offset   = closure_offset * decay;              // s [m]
+      const double      cut      = closure_pressure * std::exp(-closure_cut);
+      double            scale = 0.0, deepest = -std::numeric_limits<double>::infinity();
+      for (const double value : b)
+        {
+          scale   = std::max(scale, std::abs(value));
+          deepest = std::max(deepest, value);
+        }
+      closure_diagonal.clear();
+      if (deepest - offset < -closure_cut * decay)
+        { // every cell open beyond the tail's cut
+          std::fill(p.begin(), p.end(), 0.0);
+          return 0;
+        }
+      ++statistics.solves;
+      const double tolerance = std::max(1e-7 * scale, 1e-3 * decay);
+      closure_diagonal.assign(cells, 0.0);
+      contact::Field             residual(cells), step(cells), z(cells), search(cells), image(cells);
+      std::vector<unsigned char> on(cells), stiff(cells);
+      std::size_t                convolutions = 0;
+      const auto                 precondition = [&](const contact::Field &in, contact::Field &out) {
+        for (std::size_t c = 0; c < cells; ++c)
+          masked[c] = stiff[c] ? in[c] : 0.0;
+        if (preconditioner)
+          {
+            ++convolutions;
+            preconditioner->apply(masked, out);
+          }
+        else
+          out = masked;
+        for (std::size_t c = 0; c < cells; ++c)
+          if (!stiff[c])
+            out[c] = on[c] ? in[c] / (self + layer_compliance + closure_diagonal[c]) : 0.0;
+      };
+      const auto dot = [&](const contact::Field &u, const contact::Field &v) {
+        double sum = 0.0;
+        for (std::size_t c = 0; c < cells; ++c)
+          sum += on[c] ? u[c] * v[c] : 0.0;
+        return sum;
+      };
+      constexpr int max_newton = 200, max_cg = 500;
+      for (int newton = 0; newton < max_newton; ++newton)
+        {
+          apply(p, gap, convolutions);
+          double worst  = 0.0;
+          bool   joined = false;
+          for (std::size_t c = 0; c < cells; ++c)
+            {
+              on[c] = p[c] > 0.0;
+              if (on[c])
+                {
+                  residual[c]         = gap[c] - b[c] + offset + decay * std::log(-std::expm1(-p[c] / closure_pressure));
+                  closure_diagonal[c] = layer_compliance / std::expm1(p[c] / closure_pressure);
+                  worst               = std::max(worst, std::abs(residual[c]));
+                }
+              else
+                { // a cell at zero rejoins once its compression reaches the tail
+                  residual[c]         = 0.0;
+                  closure_diagonal[c] = 0.0;
+                  const double free   = b[c] - offset - gap[c];
+                  if (free > -closure_cut * decay)
+                    {
+                      p[c]   = closure_pressure * std::exp(std::min(free / decay, 0.0));
+                      joined = true;
+                    }
+                }
+              stiff[c] = on[c] && closure_diagonal[c] <= self;
+            }
+          if (joined)
+            continue;
+          if (worst <= tolerance)
+            {
+              statistics.solve_convolutions += convolutions;
+              return static_cast<int>(convolutions);
+            }
+          // (C + I/k_n + D) step = −r on the cells carrying pressure, to a
+          // hundredth of the residual (an inexact Newton step).
+          for (std::size_t c = 0; c < cells; ++c)
+            {
+              step[c]     = 0.0;
+              residual[c] = on[c] ? -residual[c] : 0.0;
+            }
+          precondition(residual, z);
+          search         = z;
+          double product = dot(residual, z);
+          const double inner = std::max(0.5 * tolerance, 1e-2 * worst);
+          int          it    = 0;
+          for (; it < max_cg; ++it)
+            {
+              double largest = 0.0;
+              for (std::size_t c = 0; c < cells; ++c)
+                largest = std::max(largest, std::abs(residual[c]));
+              if (largest <= inner)
+                break;
+              for (std::size_t c = 0; c < cells; ++c)
+                masked[c] = on[c] ? search[c] : 0.0;
+              apply(masked, image, convolutions);
+              for (std::size_t c = 0; c < cells; ++c)
+                image[c] += closure_diagonal[c] * masked[c];
+              const double length = product / dot(search, image);
+              for (std::size_t c = 0; c < cells; ++c)
+                if (on[c])
+                  {
+                    step[c] += length * search[c];
+                    residual[c] -= length * image[c];
+                  }
+              precondition(residual, z);
+              const double next = dot(residual, z);
+              for (std::size_t c = 0; c < cells; ++c)
+                search[c] = on[c] ? z[c] + next / product * search[c] : 0.0;
+              product = next;
+            }
+          if (it == max_cg)
+            break;
+          for (std::size_t c = 0; c < cells; ++c)
+            if (on[c])
+              {
+                const double next = std::max(p[c] + step[c], 0.1 * p[c]);
+                p[c]              = next < cut ? 0.0 : next;
+              }
+        }
+      statistics.solve_convolutions += convolutions;
+      throw std::runtime_error("local compliance: the interface pressure with the layer's closure did not converge");
+    }
+
+    /// The closure's compliance D of cell c at the last solve [m/Pa].
+    double closure_at(std::size_t c) const { return closure_diagonal.empty() ? 0.0 : closure_diagonal[c]; }
 
     /// C's diagonal entry of a cell in row j [m/Pa].
     double diagonal(int j) const
@@ -372,8 +520,23 @@ namespace fretsim::coupling
 
   const LocalCompliance::Statistics &LocalCompliance::statistics() const { return impl->statistics; }
 
+  void LocalCompliance::set_closure_pressure(double closure_pressure)
+  {
+    if (!(closure_pressure >= 0.0) || !std::isfinite(closure_pressure))
+      throw std::invalid_argument("local compliance: the closure pressure must be finite and >= 0");
+    impl->closure_pressure = closure_pressure;
+    impl->closure_diagonal.clear();
+  }
+
+  double LocalCompliance::contact_pressure() const
+  {
+    return impl->closure_pressure * std::exp(-Impl::closure_offset);
+  }
+
   int LocalCompliance::solve(const contact::Field &b, contact::Field &p)
   {
+    if (impl->closure_pressure > 0.0)
+      return impl->solve_with_closure(b, p);
     auto             &d     = *impl;
     const std::size_t cells = d.grid.size();
     double            scale = 0.0;
@@ -555,7 +718,7 @@ namespace fretsim::coupling
       ++convolutions;
       d.compliance.apply(full, response);
       for (std::size_t a = 0; a < m; ++a)
-        out[a] = response[loaded[a]] + d.layer_compliance * in[a];
+        out[a] = response[loaded[a]] + (d.layer_compliance + d.closure_at(loaded[a])) * in[a];
     }
 
     double dot(const std::vector<double> &u, const std::vector<double> &v) const
@@ -632,7 +795,7 @@ namespace fretsim::coupling
             const int ia = static_cast<int>(loaded[a] % grid.nx), ja = static_cast<int>(loaded[a] / grid.nx);
             operator_aa(a, b) = entry(ia - ib, ja, jb);
           }
-        operator_aa(b, b) += layer_compliance;
+        operator_aa(b, b) += layer_compliance + (closure_diagonal.empty() ? 0.0 : closure_diagonal[loaded[b]]);
       }
     // Single precision where it fails or is too ill-conditioned falls back to double.
     in_single = single_precision && factorise_and_solve<float>(operator_aa, rhs, columns, result);
@@ -669,6 +832,35 @@ namespace fretsim::coupling
                                              std::size_t columns, std::vector<double> &result)
   {
     auto &d = *impl;
+    if (!d.closure_diagonal.empty())
+      { // the closure's weak cells alone, the others coupled
+        const double             own = d.self + d.layer_compliance;
+        std::vector<std::size_t> coupled, at;
+        for (std::size_t a = 0; a < loaded.size(); ++a)
+          if (d.closure_diagonal[loaded[a]] <= 3.0 * own)
+            {
+              coupled.push_back(loaded[a]);
+              at.push_back(a);
+            }
+        if (coupled.size() < loaded.size())
+          {
+            std::vector<double> coupled_rhs(coupled.size() * columns), coupled_result;
+            for (std::size_t k = 0; k < coupled.size(); ++k)
+              std::copy_n(rhs + at[k] * columns, columns, coupled_rhs.begin() + k * columns);
+            const bool in_single =
+              !coupled.empty() && pressure_sensitivity(coupled, coupled_rhs.data(), columns, coupled_result);
+            result.resize(loaded.size() * columns);
+            for (std::size_t a = 0; a < loaded.size(); ++a)
+              {
+                const double alone = 1.0 / (own + d.closure_diagonal[loaded[a]]);
+                for (std::size_t j = 0; j < columns; ++j)
+                  result[a * columns + j] = alone * rhs[a * columns + j];
+              }
+            for (std::size_t k = 0; k < coupled.size(); ++k)
+              std::copy_n(coupled_result.begin() + k * columns, columns, result.begin() + at[k] * columns);
+            return in_single;
+          }
+      }
     ++d.statistics.sensitivities;
     result.assign(loaded.size() * columns, 0.0);
     // Up to a few thousand loaded cells, C_AA + I/k_n is assembled from the
@@ -684,10 +876,15 @@ namespace fretsim::coupling
         d.statistics.sensitivity_single_precision += in_single;
         return in_single;
       }
+    // (the check also readies the store the conjugate gradients start from)
     if (d.reuse_sensitivity(loaded, rhs, columns, result))
       {
-        ++d.statistics.sensitivity_reuses;
-        return false;
+        if (d.closure_diagonal.empty())
+          {
+            ++d.statistics.sensitivity_reuses;
+            return false;
+          }
+        std::fill(result.begin(), result.end(), 0.0);
       }
     // The columns are independent solves: shared out over the threads
     // (SurfaceConvolution::apply is safe to call concurrently), each with

@@ -279,6 +279,9 @@ namespace fretsim::coupling
     /// to ∂p/∂ḋ.
     std::vector<double> band_share;
 
+    /// Above this pressure a cell is in contact [Pa] (LocalCompliance::contact_pressure).
+    double contact_pressure() const { return local ? local->contact_pressure() : 0.0; }
+
     /// Row `component` (0 radial, 1 circumferential, 2 axial) of cell c.
     const float *row(std::size_t c, int component) const
     {
@@ -354,6 +357,8 @@ namespace fretsim::coupling
           // flexibility's half-space completion conditions the operator (the
           // factorisation checks its condition and falls back to double).
           local->set_single_precision_factorisation(true);
+          if (settings.local_compliance_modulus == 0.0)
+            local->set_closure_pressure(settings.closure_pressure);
           for (auto *field : {&local_pressure, &local_penetration})
             field->assign(cells, 0.0);
         }
@@ -754,7 +759,7 @@ namespace fretsim::coupling
   {
     contact::Field ratio(impl->cells, 0.0);
     for (std::size_t c = 0; c < impl->cells; ++c)
-      if (impl->pressure[c] > 0.0)
+      if (impl->pressure[c] > impl->contact_pressure())
         ratio[c] = std::hypot(impl->tau_x[c], impl->tau_y[c]) / impl->pressure[c];
     return ratio;
   }
@@ -763,7 +768,7 @@ namespace fretsim::coupling
   {
     std::size_t loaded = 0;
     for (const double p : impl->pressure)
-      loaded += p > 0.0;
+      loaded += p > impl->contact_pressure();
     return static_cast<double>(loaded) / impl->cells;
   }
 
@@ -772,7 +777,7 @@ namespace fretsim::coupling
     std::size_t loaded = 0, slipping = 0;
     const double mu = impl->settings.friction_coefficient;
     for (std::size_t c = 0; c < impl->cells; ++c)
-      if (impl->pressure[c] > 0.0)
+      if (impl->pressure[c] > impl->contact_pressure())
         {
           ++loaded;
           slipping += std::hypot(impl->tau_x[c], impl->tau_y[c]) >= (1.0 - 1e-3) * mu * impl->pressure[c];

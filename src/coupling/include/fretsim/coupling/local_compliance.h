@@ -90,9 +90,27 @@ namespace fretsim::coupling
     /// gradient method (without their load constraint: the approach is
     /// given). Starts from `pressure` and stops when the gap is within
     /// 1e-7 × max b of zero on the loaded cells (and no open cell
-    /// penetrates by more). Returns the iterations (one convolution each);
+    /// penetrates by more). With a closure pressure (set_closure_pressure),
+    /// Newton's method on the closure's law instead, to the same tolerance
+    /// (at least 1e-3 δ) on every cell. Returns the convolutions;
     /// throws std::runtime_error if it does not converge.
     int solve(const contact::Field &structural_penetration, contact::Field &pressure);
+
+    /// The layer's closure (default: sharp, the complementarity above).
+    /// With a closure pressure p_c > 0 [Pa] the layer closes as a rough
+    /// surface's asperities do (Greenwood–Williamson, exponential heights):
+    ///     p = p_c ln(1 + e^((d - s)/δ)),   δ = p_c/k_n,  s = 10 δ,
+    /// d the layer's compression b - C p: the linear layer p = k_n (d - s)
+    /// once p ≫ p_c, an exponential tail below (p_c e^-10 at d = 0, so that
+    /// surfaces that just touch carry next to nothing). Every cell then
+    /// carries a pressure and p(b) is smooth: a conformal contact, whose
+    /// edge has cells with both p and the gap near zero, no longer jumps
+    /// between loaded sets under Newton's iterations (docs/bearing.md,
+    /// Flexible housing). Cells below p_c e^-30 are set to zero.
+    void set_closure_pressure(double closure_pressure);
+    /// Where the layer is compressed (d > 0): p_c e^-10 with a closure
+    /// pressure, else 0 [Pa]. Cells above it are in contact.
+    double contact_pressure() const;
 
     /// Loaded sets up to this many cells get the sensitivity by a dense
     /// Cholesky factorisation of C_AA + I/k_n (≈ 0.1 s at 1 200 cells), larger
@@ -112,12 +130,17 @@ namespace fretsim::coupling
     void set_single_precision_factorisation(bool single);
 
     /// (C_AA + I/k_n)⁻¹ R over the loaded cells A, i.e. ∂p_A/∂b_A applied to
-    /// R: `rhs` and `result` are [cells of A][columns] row-major. Up to
+    /// R: `rhs` and `result` are [cells of A][columns] row-major. With a
+    /// closure pressure, (C_AA + I/k_n + D_A)⁻¹ R at the last solve, D the
+    /// closure's compliance (1/k_n)/(e^(p/p_c) - 1) per cell, on the cells
+    /// where D is at most three times a cell's own compliance; the others,
+    /// whose pressure hardly responds, each alone (1/(C_cc + 1/k_n + D_c)). Up to
     /// default_direct_sensitivity_cells loaded cells, exact (a Cholesky factorisation);
     /// beyond, conjugate gradients to the sensitivity tolerance, and R must
     /// be the same rows per cell from call to call (the interface operator):
     /// while A differs from the last computed set in at most 2 % of its
-    /// cells, the last answer is returned (for Newton's matrix only).
+    /// cells, the last answer is returned (for Newton's matrix only; not
+    /// with a closure pressure, whose operator depends on p).
     /// Returns whether the answer came from a single precision factorisation
     /// (set_single_precision_factorisation): accurate to about 1e-6, not to
     /// rounding.

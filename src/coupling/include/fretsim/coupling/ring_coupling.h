@@ -175,6 +175,11 @@ namespace fretsim::coupling
     /// (UniformCompliance, e.g. lame_bore_compliance); 0: the half-space's
     /// own [m/Pa].
     double housing_uniform_compliance = 0.0;
+    /// p_c [Pa]: without a half-space (the layer in series with the bodies'
+    /// residual flexibilities alone, as with a flexible housing) the layer
+    /// closes exponentially on this pressure scale
+    /// (LocalCompliance::set_closure_pressure); 0: sharply.
+    double closure_pressure = 0.0;
     /// λ_c [m] of the residual flexibility's half-space completion
     /// (ReducedRing::residual_half_space_modulus; HalfSpaceCompletion):
     /// in full below it, fading out up to 2 λ_c.
@@ -247,7 +252,9 @@ namespace fretsim::coupling
     const contact::Field &shear_y() const;
     /// |τ| / p (the paper's effective friction coefficient), 0 without contact.
     contact::Field effective_friction() const;
-    /// Loaded cells / all cells, and slipping cells (|τ| ≥ (1 - 1e-3) μ p) / loaded.
+    /// Loaded cells / all cells, and slipping cells (|τ| ≥ (1 - 1e-3) μ p) / loaded;
+    /// with the layer's closure a cell is loaded where the layer is
+    /// compressed (LocalCompliance::contact_pressure).
     double contact_fraction() const;
     double slip_fraction() const;
     /// Resultant of the housing's tractions on the ring in the Cartesian x, y

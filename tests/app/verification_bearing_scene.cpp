@@ -234,7 +234,7 @@ TEST(BearingScene, AFlexibleHousingTakesItsShareAndAStiffOneIsTheRigidHousing)
   EXPECT_EQ(ResultsFile::read_string_attribute(steel, "/", "housing"), "flexible");
   EXPECT_EQ(ResultsFile::read_string_attribute(rigid, "/", "housing"), "rigid");
   // Newton on the flexible housing (two passes), the layer's exponential
-  // closure at its default: measured 79 convergence failures in 495 steps
+  // closure at its default: measured 79-85 convergence failures in 495-510 steps
   // (with the sharp closure 176-190 in 632-671 on 1-3 threads, the loaded
   // set jumping within Newton's iteration: docs/bearing.md, Flexible
   // housing). The bound catches a rise by a fifth.
@@ -242,8 +242,8 @@ TEST(BearingScene, AFlexibleHousingTakesItsShareAndAStiffOneIsTheRigidHousing)
   const double      steps = summary_number(newton, "steps"),
                failures   = summary_number(newton, "newton_convergence_failures");
   std::printf("flexible housing: %.0f steps, %.0f Newton failures\n", steps, failures);
-  EXPECT_LT(failures, 1.2 * 79.0);
-  EXPECT_LT(steps, 1.2 * 495.0);
+  EXPECT_LT(failures, 1.2 * 85.0);
+  EXPECT_LT(steps, 1.2 * 510.0);
   std::vector<std::size_t> dims;
   ResultsFile::read_dataset(steel, "/fields/modal_coordinates", &dims);
   ASSERT_EQ(dims.size(), 2u);

@@ -92,7 +92,7 @@ namespace fretsim::coupling
     /// 1e-7 × max b of zero on the loaded cells (and no open cell
     /// penetrates by more). With a closure pressure (set_closure_pressure),
     /// Newton's method on the closure's law instead, to the same tolerance
-    /// (at least 1e-3 δ) on every cell. Returns the convolutions;
+    /// (1e-7 × max(max |b|, δ)) on every cell. Returns the convolutions;
     /// throws std::runtime_error if it does not converge.
     int solve(const contact::Field &structural_penetration, contact::Field &pressure);
 
@@ -132,9 +132,9 @@ namespace fretsim::coupling
     /// (C_AA + I/k_n)⁻¹ R over the loaded cells A, i.e. ∂p_A/∂b_A applied to
     /// R: `rhs` and `result` are [cells of A][columns] row-major. With a
     /// closure pressure, (C_AA + I/k_n + D_A)⁻¹ R at the last solve, D the
-    /// closure's compliance (1/k_n)/(e^(p/p_c) - 1) per cell, on the cells
-    /// where D is at most three times a cell's own compliance; the others,
-    /// whose pressure hardly responds, each alone (1/(C_cc + 1/k_n + D_c)). Up to
+    /// closure's compliance (1/k_n)/(e^(p/p_c) - 1) per cell: exactly on the
+    /// cells where D is at most ten times a cell's own compliance, each of
+    /// the others from what the first move it (within 3 % of the response). Up to
     /// default_direct_sensitivity_cells loaded cells, exact (a Cholesky factorisation);
     /// beyond, conjugate gradients to the sensitivity tolerance, and R must
     /// be the same rows per cell from call to call (the interface operator):

@@ -487,9 +487,19 @@ namespace fretsim::coupling
                     : layer_pressure(structural[c], structural_rate[c]);
             const double p = layer.pressure;
             trial_pressure[c] = p;
-            if (p <= 0.0 && tau_x[c] == 0.0 && tau_y[c] == 0.0)
-              {
+            if (p <= contact_pressure() && tau_x[c] == 0.0 && tau_y[c] == 0.0)
+              { // open, or in the layer closure's tail: no shear (at most μ p_c e^-10)
                 trial_tau_x[c] = trial_tau_y[c] = 0.0;
+                if (p <= 0.0)
+                  continue;
+                add_rows(c, Eigen::Vector3d(-cell_area * p, 0.0, 0.0), local_force.data());
+                if (jacobian)
+                  {
+                    by_penetration[c] = Eigen::Vector3d(-1.0, 0.0, 0.0);
+                    band_share[c]     = 0.0;
+                    slip_stiffness[c].setZero();
+                    loaded[c] = 1;
+                  }
                 continue;
               }
             if (!tangential_current[c])
@@ -593,11 +603,17 @@ namespace fretsim::coupling
     JacobianRows jacobian_rows(const std::vector<std::size_t> &active) const
     {
       const auto m = static_cast<Eigen::Index>(active.size()), size = static_cast<Eigen::Index>(interface_columns.size());
+      // Tangential rows only for cells whose bristle has a stiffness (not
+      // the layer closure's tail).
+      Eigen::Index sheared = 0;
+      for (const std::size_t c : active)
+        sheared += !slip_stiffness[c].isZero(0.0);
       // The implicit Euler law's ∂τ/∂ds is not symmetric: its tangential part
       // is the general product G_tᵀ (S_c G_t) (`slipped` the latter).
-      JacobianRows rows_of{RowMatrix(m, size), RowMatrix(m, size), RowMatrix(2 * m, size),
-                           RowMatrix(consistent ? 2 * m : 0, size)};
+      JacobianRows rows_of{RowMatrix(m, size), RowMatrix(m, size), RowMatrix(2 * sheared, size),
+                           RowMatrix(consistent ? 2 * sheared : 0, size)};
       RowMatrix    g(3, size); // one cell's rows in double, on the interface's coordinates
+      Eigen::Index t = 0;      // the next tangential pair
       for (Eigen::Index a = 0; a < m; ++a)
         {
           const std::size_t c = active[a];
@@ -609,16 +625,20 @@ namespace fretsim::coupling
             }
           rows_of.radial.row(a) = g.row(0);
           rows_of.normal.row(a) = by_penetration[c].transpose() * g;
+          if (slip_stiffness[c].isZero(0.0))
+            continue;
           if (consistent)
             {
-              rows_of.tangential.middleRows(2 * a, 2) = g.bottomRows(2);
-              rows_of.slipped.middleRows(2 * a, 2)    = slip_stiffness[c] * g.bottomRows(2);
+              rows_of.tangential.middleRows(2 * t, 2) = g.bottomRows(2);
+              rows_of.slipped.middleRows(2 * t, 2)    = slip_stiffness[c] * g.bottomRows(2);
+              ++t;
               continue;
             }
           const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> split(slip_stiffness[c]);
           for (int k = 0; k < 2; ++k)
-            rows_of.tangential.row(2 * a + k) = std::sqrt(std::max(split.eigenvalues()[k], 0.0)) *
+            rows_of.tangential.row(2 * t + k) = std::sqrt(std::max(split.eigenvalues()[k], 0.0)) *
                                                 (split.eigenvectors().col(k).transpose() * g.bottomRows(2));
+          ++t;
         }
       if (local)
         { // ∂p_A/∂d0_A = (C_AA + I/k_n)⁻¹: the radial rows through it
@@ -658,7 +678,9 @@ namespace fretsim::coupling
       };
       Eigen::MatrixXd normal = product(rows_of.normal, rows_of.radial);
       Eigen::MatrixXd by_position = normal;
-      if (consistent)
+      if (rows_of.tangential.rows() == 0)
+        ; // no bristle with a stiffness (and Eigen's blocking divides by the depth)
+      else if (consistent)
         by_position -= product(rows_of.tangential, rows_of.slipped);
       else
         {

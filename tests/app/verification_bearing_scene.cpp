@@ -294,7 +294,7 @@ TEST(BearingScene, AFlexibleHousingTakesItsShareAndAStiffOneIsTheRigidHousing)
   const double peak_with = peak_pressure(steel), peak_without = peak_pressure(basis_only);
   std::printf("steel housing: peak pressure %.4g Pa with its residual flexibility, %.4g Pa without\n", peak_with,
               peak_without);
-  EXPECT_LT(peak_with, 0.995 * peak_without); // measured 66.5 against 67.7 MPa (-1.8 %)
+  EXPECT_LT(peak_with, 0.995 * peak_without); // measured 59.1 against 63.9 MPa (-7.5 %; sharp closure 66.5 against 67.7)
   // A housing model without R_h (`reduce` always stores it for a held
   // housing with a bore grid: made here by hand) is refused while the scene
   // asks for R_h: exit 2 naming the parameter, nothing written.

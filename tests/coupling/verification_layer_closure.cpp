@@ -3,8 +3,12 @@
 // d the layer's compression. Checked against its scalar law where the
 // pressure is uniform (one axial row on the closed circumference), against
 // the sharp complementarity as p_c → 0, its sensitivity against central
-// differences of the solve, and in extreme settings.
+// differences of the solve, the interface Jacobian across a patch's edge
+// against central differences of the force, and in extreme settings.
 #include <fretsim/coupling/local_compliance.h>
+#include <fretsim/coupling/ring_coupling.h>
+#include "finite_differences.h"
+#include "synthetic_rings.h"
 
 #include <fretsim/contact/convolution.h>
 
@@ -217,4 +221,53 @@ TEST(LayerClosure, ExtremeSettingsStayFinite)
       EXPECT_GT(sum, 0.1 * load);
       EXPECT_LT(sum, 10.0 * load);
     }
+}
+
+TEST(LayerClosure, TheInterfaceJacobianCarriesTheClosuresSensitivity)
+{
+  // The interface's generalised force on a random ring with a residual
+  // flexibility (Love's coefficients as its table), its approach about the
+  // closure's offset: cells beyond the tail, in it, and open.
+  // With the closure p(q) is smooth across the patch's edge, so its
+  // Jacobian (coupled and tail cells, normal and bristles) must match
+  // central differences there too; μ = 10 keeps the bristles sticking.
+  auto ring = synthetic::random_ring(5, 36, 3, 7);
+  ring.residual_pressure = love_table(ring.interface_grid, 4e11);
+  InterfaceSettings settings;
+  settings.normal_stiffness     = 1e15;
+  settings.tangential_stiffness = 2e15;
+  settings.friction_coefficient = 10.0;
+  settings.closure_pressure     = 1e3;   // δ = 1e-12 m, s = 1e-11 m: the random ring carries ~10 kPa
+  settings.radial_interference  = 2e-11;
+  std::vector<double> q0(5), v(5, 0.0), q;
+  for (std::size_t j = 0; j < 5; ++j)
+    q0[j] = 1e-10 * std::cos(1.3 * j);
+  q = q0;
+  for (std::size_t j = 0; j < q.size(); ++j)
+    q[j] += 0.02e-9 * std::cos(3.0 * j);
+  InterfaceContact    contact(ring, settings);
+  std::vector<double> f(5, 0.0), dq(25, 0.0), dv(25, 0.0);
+  contact.accept(q0.data(), v.data());
+  contact.add_forces(q.data(), v.data(), {f.data(), dq.data(), dv.data()});
+  const contact::Field &p = contact.trial_pressure();
+  const double          p_c = settings.closure_pressure;
+  std::size_t           tail = 0, deep = 0, open = 0;
+  for (const double value : p)
+    {
+      tail += value > 0.0 && value < p_c;
+      deep += value >= p_c;
+      open += value == 0.0;
+    }
+  std::printf("cells: %zu beyond p_c, %zu in the tail, %zu open; p %g..%g\n", deep, tail, open, *std::min_element(p.begin(), p.end()), *std::max_element(p.begin(), p.end()));
+  ASSERT_GT(deep, 10u);
+  ASSERT_GT(tail, 5u);
+  ASSERT_GT(open, 10u);
+  const auto evaluate = [&contact](const std::vector<double> &at, const std::vector<double> &rate) {
+    std::vector<double> out(at.size(), 0.0);
+    contact.add_forces(at.data(), rate.data(), {out.data(), nullptr, nullptr});
+    return out;
+  };
+  const double error = fretsim::coupling::testing::jacobian_error(5, q, v, 0, 1e-13, evaluate, dq);
+  std::printf("interface Jacobian with the closure against central differences: %.3g\n", error);
+  EXPECT_LT(error, 1e-4); // measured 4e-6 (7e-4 and 3e-4 at fits of 0 and 5e-11 m, other cells at the tail's bends)
 }

@@ -861,7 +861,7 @@ namespace fretsim::coupling
             const int ia = static_cast<int>(loaded[a] % grid.nx), ja = static_cast<int>(loaded[a] / grid.nx);
             operator_aa(a, b) = entry(ia - ib, ja, jb);
           }
-        operator_aa(b, b) += layer_compliance + (closure_diagonal.empty() ? 0.0 : closure_diagonal[loaded[b]]);
+        operator_aa(b, b) += layer_compliance + closure_at(loaded[b]);
       }
     // Single precision where it fails or is too ill-conditioned falls back to double.
     in_single = single_precision && factorise_and_solve<float>(operator_aa, rhs, columns, result);

@@ -274,11 +274,8 @@ namespace fretsim::contact
   ContactEdgeRiskMaximum ContactEdgeRisk::maximum() const
   {
     ContactEdgeRiskMaximum result;
-    const auto &risk_max = criterion->risk_max();
-    std::size_t worst    = risk_max.size();
-    for (std::size_t m = 0; m < risk_max.size(); ++m)
-      if (std::isfinite(risk_max[m]) && (worst == risk_max.size() || risk_max[m] > risk_max[worst]))
-        worst = m;
+    const auto       &risk_max = criterion->risk_max();
+    const std::size_t worst    = largest_finite_point(risk_max);
     if (worst == risk_max.size())
       return result;
     result.value        = risk_max[worst];

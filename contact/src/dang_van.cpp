@@ -487,6 +487,15 @@ namespace fretsim::contact
     return "unknown";
   }
 
+  std::size_t largest_finite_point(const std::vector<double> &values)
+  {
+    std::size_t largest = values.size();
+    for (std::size_t point = 0; point < values.size(); ++point)
+      if (std::isfinite(values[point]) && (largest == values.size() || values[point] > values[largest]))
+        largest = point;
+    return largest;
+  }
+
   DangVanField::DangVanField(std::size_t n_points, const DangVanConstants &constants,
                              const DangVanSettings &settings)
     : n(n_points)

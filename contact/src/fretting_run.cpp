@@ -767,10 +767,7 @@ namespace fretsim::contact
     run_pending_steps();
     const std::vector<double> &risk_max = this->risk_max();
     RiskMaximum                result;
-    std::size_t                worst = risk_max.size();
-    for (std::size_t point = 0; point < risk_max.size(); ++point)
-      if (std::isfinite(risk_max[point]) && (worst == risk_max.size() || risk_max[point] > risk_max[worst]))
-        worst = point;
+    const std::size_t          worst = largest_finite_point(risk_max);
     if (worst == risk_max.size())
       return result;
     const std::size_t cell = worst % surface.size();

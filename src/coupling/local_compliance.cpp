@@ -69,8 +69,10 @@ namespace fretsim::coupling
     std::vector<unsigned char> last_known; ///< per grid cell: in last_loaded
     std::size_t              last_columns = 0;
 
-    /// Whether the last sensitivity serves for `loaded` (then in `result`);
-    /// if not, its store is ready for `columns` columns.
+    /// Readies the last sensitivity's store (the conjugate gradients' start)
+    /// for `columns` columns; emptied when their number changes.
+    void prepare_sensitivity_store(std::size_t columns);
+    /// Whether the last sensitivity serves for `loaded` (then in `result`).
     bool reuse_sensitivity(const std::vector<std::size_t> &loaded, const double *rhs, std::size_t columns,
                            std::vector<double> &result);
     struct SensitivityColumns;
@@ -657,18 +659,20 @@ namespace fretsim::coupling
                              std::to_string(max_iterations) + " conjugate gradient iterations");
   }
 
+  void LocalCompliance::Impl::prepare_sensitivity_store(std::size_t columns)
+  {
+    if (last_columns == columns)
+      return;
+    last_sensitivity.assign(grid.size() * columns, 0.0);
+    last_known.assign(grid.size(), 0);
+    last_columns = columns;
+    last_loaded.clear();
+  }
+
   bool LocalCompliance::Impl::reuse_sensitivity(const std::vector<std::size_t> &loaded, const double *rhs,
                                                 std::size_t columns, std::vector<double> &result)
   {
     const std::size_t m = loaded.size();
-    if (last_columns != columns)
-      {
-        last_sensitivity.assign(grid.size() * columns, 0.0);
-        last_known.assign(grid.size(), 0);
-        last_columns = columns;
-        last_loaded.clear();
-        return false;
-      }
     // Newton's matrix needs no more than this: while the loaded set differs
     // from the last computed one in at most 2 % of its cells, the last
     // sensitivity serves (a cell new to it starts as a lone cell), as ARKODE
@@ -921,15 +925,12 @@ namespace fretsim::coupling
         d.statistics.sensitivity_single_precision += in_single;
         return in_single;
       }
-    // (the check also readies the store the conjugate gradients start from)
-    if (d.reuse_sensitivity(loaded, rhs, columns, result))
+    d.prepare_sensitivity_store(columns);
+    // (the closure's operator depends on the pressure, not the loaded set alone)
+    if (d.closure_diagonal.empty() && d.reuse_sensitivity(loaded, rhs, columns, result))
       {
-        if (d.closure_diagonal.empty())
-          {
-            ++d.statistics.sensitivity_reuses;
-            return false;
-          }
-        std::fill(result.begin(), result.end(), 0.0);
+        ++d.statistics.sensitivity_reuses;
+        return false;
       }
     // The columns are independent solves: shared out over the threads
     // (SurfaceConvolution::apply is safe to call concurrently), each with

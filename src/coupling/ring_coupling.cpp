@@ -280,7 +280,8 @@ namespace fretsim::coupling
     std::vector<double> band_share;
 
     /// Above this pressure a cell is in contact [Pa] (LocalCompliance::contact_pressure).
-    double contact_pressure() const { return local ? local->contact_pressure() : 0.0; }
+    double contact_pressure() const { return contact_floor; }
+    double contact_floor = 0.0;
 
     /// Row `component` (0 radial, 1 circumferential, 2 axial) of cell c.
     const float *row(std::size_t c, int component) const
@@ -359,6 +360,7 @@ namespace fretsim::coupling
           local->set_single_precision_factorisation(true);
           if (settings.local_compliance_modulus == 0.0)
             local->set_closure_pressure(settings.closure_pressure);
+          contact_floor = local->contact_pressure();
           for (auto *field : {&local_pressure, &local_penetration})
             field->assign(cells, 0.0);
         }
@@ -391,6 +393,15 @@ namespace fretsim::coupling
     void dot2(const float *values, const double *x, const double *y, double &x_sum, double &y_sum) const
     {
       row_dot2(values, x, y, n, x_sum, y_sum);
+    }
+
+    /// out += G_r,cᵀ w, the radial row of cell c alone.
+    void add_radial_row(std::size_t c, double weight, double *out) const
+    {
+      const float *r = row(c, 0);
+#pragma omp simd
+      for (std::size_t j = 0; j < n; ++j)
+        out[j] += weight * r[j];
     }
 
     /// out += G_cᵀ w, w = A (t_r, t_θ, t_z) of cell c.
@@ -492,7 +503,7 @@ namespace fretsim::coupling
                 trial_tau_x[c] = trial_tau_y[c] = 0.0;
                 if (p <= 0.0)
                   continue;
-                add_rows(c, Eigen::Vector3d(-cell_area * p, 0.0, 0.0), local_force.data());
+                add_radial_row(c, -cell_area * p, local_force.data());
                 if (jacobian)
                   {
                     by_penetration[c] = Eigen::Vector3d(-1.0, 0.0, 0.0);

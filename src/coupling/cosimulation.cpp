@@ -1,5 +1,7 @@
 #include <fretsim/coupling/cosimulation.h>
 
+#include "newton_solver.h"
+
 #include <arkode/arkode_arkstep.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
@@ -81,6 +83,8 @@ namespace fretsim::coupling
     contact::Field       pressure_now, pressure_before, pressure_guess;
     double               time_now = 0.0, time_before = 0.0;
     std::string         last_error;
+    // The balls' derivatives in the last Jacobian (the Newton solver keeps them current).
+    BallContacts::Linearisation balls_at_jacobian;
 
     Impl(const ReducedRing &ring, const CosimulationSettings &s)
       : settings(s)
@@ -280,6 +284,7 @@ namespace fretsim::coupling
     int jacobian(double t, const double *y, double *columns, long leading)
     {
       contact_forces(t, y, y + n, true);
+      balls_at_jacobian = balls.linearisation();
       const Eigen::Map<const RowMatrix> dq(by_position.data(), n, n), dv(by_velocity.data(), n, n);
       const Eigen::MatrixXd lower_left  = mass.solve(Eigen::MatrixXd(dq)) - mass_inverse_stiffness;
       const Eigen::MatrixXd lower_right = mass.solve(Eigen::MatrixXd(dv)) - mass_inverse_damping;
@@ -326,146 +331,6 @@ namespace fretsim::coupling
     {
       auto &last = static_cast<BearingCosimulation::Impl *>(data)->last_error;
       last       = std::string(function) + ": " + message;
-    }
-
-    /// A SUNDIALS direct linear solver for the Newton matrix of y = [q, q̇],
-    ///     A = I - γJ = [[I, -γI], [-γL, I - γR]]   (J = [[0, I], [L, R]]),
-    /// by its Schur complement: x₁ = b₁ + γx₂ and (A₂₂ - A₂₁A₁₂) x₂ = b₂ - A₂₁b₁,
-    /// so that Eigen's blocked LU factorises an n × n matrix, not 2n × 2n
-    /// (an eighth of the work: the factorisation was most of the
-    /// integrator's own time). A matrix without that block structure is
-    /// factorised whole.
-    struct EigenLu
-    {
-      Eigen::PartialPivLU<Eigen::MatrixXd> lu;
-      Eigen::MatrixXd lower_left; ///< A₂₁ (Schur form only)
-      double          gamma = 0.0;
-      bool            schur = false;
-      /// Broyden's second method on the inverse: H = A⁻¹ + Σ_i c_i y_iᵀ / (y_iᵀ y_i)
-      /// over the stage's iterations so far, each making H y_i = s_i for the
-      /// change y_i of the right-hand side (Newton's residual, negated) along
-      /// the correction s_i it followed. Cleared by a set-up and a new stage.
-      void                        *arkode = nullptr; ///< set with secant updates only
-      std::vector<Eigen::VectorXd> secant_corrections, residual_changes;
-      Eigen::VectorXd              last_rhs, last_solution;
-      double                       stage_time = 0.0, stage_gamma = 0.0;
-
-      Eigen::VectorXd solve_set_up(const Eigen::VectorXd &rhs) const
-      {
-        if (!schur)
-          return lu.solve(rhs);
-        const auto      n = lu.rows();
-        Eigen::VectorXd solution(2 * n);
-        solution.tail(n) = lu.solve(rhs.tail(n) - lower_left * rhs.head(n));
-        solution.head(n) = rhs.head(n) + gamma * solution.tail(n);
-        return solution;
-      }
-
-      Eigen::VectorXd solve_updated(const Eigen::VectorXd &rhs) const
-      {
-        Eigen::VectorXd solution = solve_set_up(rhs);
-        for (std::size_t i = 0; i < secant_corrections.size(); ++i)
-          solution += secant_corrections[i] * (residual_changes[i].dot(rhs) / residual_changes[i].squaredNorm());
-        return solution;
-      }
-
-      void clear_updates()
-      {
-        secant_corrections.clear();
-        residual_changes.clear();
-      }
-
-      /// Adds the update from the last iteration unless `rhs` starts a stage
-      /// (another stage time or γ: a new stage, step or attempt).
-      void update(const Eigen::VectorXd &rhs)
-      {
-        realtype time, stage_gamma_now;
-        N_Vector predicted, iterate, stage_rhs, stage_data;
-        void    *user;
-        ARKStepGetNonlinearSystemData(arkode, &time, &predicted, &iterate, &stage_rhs, &stage_gamma_now, &stage_data,
-                                      &user);
-        if (time != stage_time || stage_gamma_now != stage_gamma || last_rhs.size() != rhs.size())
-          {
-            clear_updates();
-            stage_time  = time;
-            stage_gamma = stage_gamma_now;
-            return;
-          }
-        Eigen::VectorXd change = last_rhs - rhs;
-        if (!(change.squaredNorm() > 0.0))
-          return;
-        Eigen::VectorXd correction = last_solution - solve_updated(change);
-        secant_corrections.push_back(std::move(correction));
-        residual_changes.push_back(std::move(change));
-      }
-    };
-
-    SUNLinearSolver_Type eigen_lu_type(SUNLinearSolver) { return SUNLINEARSOLVER_DIRECT; }
-
-    /// Whether A's upper blocks are [I, -γI] exactly (they are for J's [0, I]).
-    bool has_velocity_block_structure(const Eigen::Map<const Eigen::MatrixXd> &a, Eigen::Index n, double &gamma)
-    {
-      if (a.rows() != 2 * n || a.cols() != 2 * n)
-        return false;
-      gamma = -a(0, n);
-      return a.topLeftCorner(n, n).isIdentity(0.0) &&
-             (a.topRightCorner(n, n) + gamma * Eigen::MatrixXd::Identity(n, n)).isZero(0.0);
-    }
-
-    int eigen_lu_setup(SUNLinearSolver solver, SUNMatrix A)
-    {
-      auto      &d = *static_cast<EigenLu *>(solver->content);
-      const auto rows = SM_ROWS_D(A), columns = SM_COLUMNS_D(A);
-      const Eigen::Map<const Eigen::MatrixXd> a(SM_DATA_D(A), rows, columns);
-      const Eigen::Index                      n = rows / 2;
-      d.clear_updates();
-      d.last_rhs.resize(0);
-      d.schur = rows % 2 == 0 && has_velocity_block_structure(a, n, d.gamma);
-      if (d.schur)
-        {
-          d.lower_left = a.bottomLeftCorner(n, n);
-          d.lu.compute(a.bottomRightCorner(n, n) + d.gamma * d.lower_left); // A₂₂ - A₂₁(-γI)
-        }
-      else
-        d.lu.compute(a);
-      return 0;
-    }
-
-    int eigen_lu_solve(SUNLinearSolver solver, SUNMatrix, N_Vector x, N_Vector b, realtype)
-    {
-      auto      &d    = *static_cast<EigenLu *>(solver->content);
-      const auto size = d.schur ? 2 * d.lu.rows() : d.lu.rows();
-      const Eigen::Map<const Eigen::VectorXd> rhs(N_VGetArrayPointer(b), size);
-      Eigen::Map<Eigen::VectorXd>             solution(N_VGetArrayPointer(x), size);
-      if (d.arkode == nullptr)
-        {
-          solution = d.solve_set_up(rhs);
-          return 0;
-        }
-      d.update(rhs);
-      d.last_rhs      = rhs;
-      d.last_solution = d.solve_updated(rhs);
-      solution        = d.last_solution;
-      return 0;
-    }
-
-    int eigen_lu_free(SUNLinearSolver solver)
-    {
-      delete static_cast<EigenLu *>(solver->content);
-      solver->content = nullptr;
-      SUNLinSolFreeEmpty(solver);
-      return 0;
-    }
-
-    SUNLinearSolver make_eigen_lu(SUNContext context)
-    {
-      SUNLinearSolver solver = SUNLinSolNewEmpty(context);
-      solver->content        = new EigenLu;
-      solver->ops->gettype   = eigen_lu_type;
-      solver->ops->setup     = eigen_lu_setup;
-      solver->ops->solve     = eigen_lu_solve;
-      solver->ops->free      = eigen_lu_free;
-      return solver;
     }
 
     /// Owners of the SUNDIALS objects (C handles with their own destroy calls).
@@ -519,11 +384,11 @@ namespace fretsim::coupling
       check(ARKStepSetErrHandlerFn(sun.arkode, arkode_error, &d), "ARKStepSetErrHandlerFn");
       check(ARKStepSVtolerances(sun.arkode, s.integrator.relative_tolerance, sun.tolerance), "ARKStepSVtolerances");
       sun.matrix = SUNDenseMatrix(static_cast<sunindextype>(2 * n), static_cast<sunindextype>(2 * n), sun.context);
-      sun.solver = make_eigen_lu(sun.context);
+      sun.solver = make_newton_solver(sun.context, {&d.mass, &d.balls.linearisation(), &d.balls_at_jacobian});
       check(ARKStepSetLinearSolver(sun.arkode, sun.solver, sun.matrix), "ARKStepSetLinearSolver");
       if (s.integrator.secant_updates)
         {
-          static_cast<EigenLu *>(sun.solver->content)->arkode = sun.arkode;
+          set_secant_updates(sun.solver, sun.arkode);
           // The updates need the correction Newton takes to be the solve's:
           // no rescaling for a γ that changed since the set-up.
           check(ARKStepSetLinearSolutionScaling(sun.arkode, SUNFALSE), "ARKStepSetLinearSolutionScaling");

@@ -843,6 +843,7 @@ namespace fretsim::coupling
     unsigned int        balls;
     double              stiffness, damping, clearance;
     std::vector<double> loads, raceway_residual;
+    Linearisation       linearisation;
   };
 
   BallContacts::BallContacts(const ReducedRing &ring, unsigned int ball_count, double stiffness, double damping,
@@ -864,6 +865,10 @@ namespace fretsim::coupling
     impl->clearance       = radial_clearance;
     impl->loads.assign(ball_count, 0.0);
     impl->raceway_residual.assign(ball_count, 0.0);
+    impl->linearisation.rows.assign(ball_count * ring.n, 0.0);
+    impl->linearisation.slopes.assign(ball_count * ring.n, 0.0);
+    impl->linearisation.by_deflection.assign(ball_count, 0.0);
+    impl->linearisation.by_deflection_rate.assign(ball_count, 0.0);
   }
 
   void BallContacts::set_raceway_residual(const std::vector<double> &inward)
@@ -879,7 +884,7 @@ namespace fretsim::coupling
                                 const double inner_velocity[2], const double *q_data, const double *v_data,
                                 const ForceOutput &out)
   {
-    const auto                        &d = *impl;
+    auto                              &d = *impl;
     const Eigen::Map<const VectorXd>   q(q_data, d.n), v(v_data, d.n);
     Eigen::Map<VectorXd>               force(out.force, d.n);
     const double                       spacing = 2.0 * M_PI / d.angles;
@@ -887,6 +892,8 @@ namespace fretsim::coupling
     VectorXd                           r(d.n), slope(d.n);
     // Per footprint at the ball's angle: r·q, r·q̇ and (dr/dψ)·q.
     VectorXd on_q(F), on_v(F), slope_q(F);
+    d.linearisation.cage_speed = cage_speed;
+    ++d.linearisation.evaluations;
     for (unsigned int j = 0; j < d.balls; ++j)
       {
         double position = std::fmod(angles[j], 2.0 * M_PI);
@@ -938,8 +945,12 @@ namespace fretsim::coupling
         slope.setZero();
         for (std::size_t m = 0; m < blend.count; ++m)
           add_rows(blend.first + m, blend.weights[m]);
-        impl->loads[j] = load.load;
+        d.loads[j] = load.load;
         force.noalias() += load.load * r;
+        VectorXd::Map(d.linearisation.rows.data() + j * d.n, d.n)   = r;
+        VectorXd::Map(d.linearisation.slopes.data() + j * d.n, d.n) = slope;
+        d.linearisation.by_deflection[j]      = load.by_deflection;
+        d.linearisation.by_deflection_rate[j] = load.by_deflection_rate;
         if (out.by_position != nullptr)
           {
             // The row's change with the load (through the footprint) is left out.
@@ -952,4 +963,6 @@ namespace fretsim::coupling
   }
 
   const std::vector<double> &BallContacts::loads() const { return impl->loads; }
+
+  const BallContacts::Linearisation &BallContacts::linearisation() const { return impl->linearisation; }
 } // namespace fretsim::coupling

@@ -296,6 +296,20 @@ namespace fretsim::coupling
     /// Ball loads [N] of the last add_forces call.
     const std::vector<double> &loads() const;
 
+    /// The balls' part of the force's derivatives at the last add_forces
+    /// call, ball by ball: ∂F/∂q = -Σ_j r_j (k_j r_j + c_j Ω s_j)ᵀ and
+    /// ∂F/∂q̇ = -Σ_j c_j r_j r_jᵀ, r_j the raceway row under ball j, s_j its
+    /// slope dr/dψ, k_j = ∂Q_j/∂δ_j and c_j = ∂Q_j/∂δ̇_j (both 0 for an
+    /// unloaded ball), Ω the cage speed.
+    struct Linearisation
+    {
+      std::vector<double> rows, slopes;                      ///< [ball][n]
+      std::vector<double> by_deflection, by_deflection_rate; ///< k_j [N/m], c_j [N s/m]
+      double              cage_speed = 0.0;                  ///< Ω [rad/s]
+      std::size_t         evaluations = 0;                   ///< add_forces calls so far
+    };
+    const Linearisation &linearisation() const;
+
   private:
     struct Impl;
     std::unique_ptr<Impl> impl;

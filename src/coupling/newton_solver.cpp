@@ -1,0 +1,233 @@
+#include "newton_solver.h"
+
+#include <arkode/arkode_arkstep.h>
+#include <nvector/nvector_serial.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include <Eigen/Dense>
+
+#include <utility>
+#include <vector>
+
+namespace fretsim::coupling
+{
+  namespace
+  {
+    /// A SUNDIALS direct linear solver for the Newton matrix of y = [q, q̇],
+    ///     A = I - γJ = [[I, -γI], [-γL, I - γR]]   (J = [[0, I], [L, R]]),
+    /// by its Schur complement: x₁ = b₁ + γx₂ and (A₂₂ - A₂₁A₁₂) x₂ = b₂ - A₂₁b₁,
+    /// so that Eigen's blocked LU factorises an n × n matrix, not 2n × 2n
+    /// (an eighth of the work: the factorisation was most of the
+    /// integrator's own time). A matrix without that block structure is
+    /// factorised whole.
+    struct EigenLu
+    {
+      Eigen::PartialPivLU<Eigen::MatrixXd> lu;
+      Eigen::MatrixXd lower_left; ///< A₂₁ (Schur form only)
+      double          gamma = 0.0;
+      bool            schur = false;
+      /// Broyden's second method on the inverse: H = A⁻¹ + Σ_i c_i y_iᵀ / (y_iᵀ y_i)
+      /// over the stage's iterations so far, each making H y_i = s_i for the
+      /// change y_i of the right-hand side (Newton's residual, negated) along
+      /// the correction s_i it followed. Cleared by a set-up and a new stage.
+      void                        *arkode = nullptr; ///< set with secant updates only
+      std::vector<Eigen::VectorXd> secant_corrections, residual_changes;
+      Eigen::VectorXd              last_rhs, last_solution;
+      double                       stage_time = 0.0, stage_gamma = 0.0;
+
+      /// The balls' part of J at the iterate rather than at the Jacobian's
+      /// state: Newton's matrix is updated by their difference, a change of
+      /// rank one per loaded ball and state, by Woodbury's identity. A ball
+      /// that comes into contact after the Jacobian (no stiffness there)
+      /// would otherwise throw the iterate from one side of its contact to
+      /// the other.
+      const Eigen::LLT<Eigen::MatrixXd>  *mass = nullptr;
+      const BallContacts::Linearisation *balls_now = nullptr, *balls_at_jacobian = nullptr;
+      // ΔS = U Wᵀ on the Schur complement, ΔL = -U Gᵀ on J's lower left (U = M⁻¹ R).
+      Eigen::MatrixXd                      ball_u, ball_w, ball_g, ball_solved_u;
+      Eigen::PartialPivLU<Eigen::MatrixXd> ball_capacitance;
+      long        setups = 0, setups_seen = -1;
+      std::size_t balls_seen = 0; // the balls' evaluation counter at the last update
+
+      /// Newton's matrix with the balls of their last evaluation (once per
+      /// evaluation and set-up).
+      void update_balls()
+      {
+        if (balls_now == nullptr || (setups == setups_seen && balls_now->evaluations == balls_seen))
+          return;
+        setups_seen = setups;
+        balls_seen  = balls_now->evaluations;
+        ball_u.resize(0, 0);
+        if (!schur || balls_at_jacobian->rows.size() != balls_now->rows.size())
+          return;
+        const Eigen::Index n = lu.rows();
+        std::vector<std::pair<const BallContacts::Linearisation *, std::size_t>> columns;
+        const auto loaded = [](const BallContacts::Linearisation *state, std::size_t j) {
+          return state->by_deflection[j] != 0.0 || state->by_deflection_rate[j] != 0.0;
+        };
+        for (std::size_t j = 0; j < balls_now->by_deflection.size(); ++j)
+          for (const auto *state : {balls_now, balls_at_jacobian})
+            if (loaded(state, j))
+              columns.emplace_back(state, j);
+        if (columns.empty())
+          return;
+        const auto      m = static_cast<Eigen::Index>(columns.size());
+        Eigen::MatrixXd rows(n, m);
+        ball_w.resize(n, m);
+        ball_g.resize(n, m);
+        for (Eigen::Index c = 0; c < m; ++c)
+          {
+            // S = I - γR - γ²L gains, per ball, M⁻¹ r ((γc + γ²k) r + γ²cΩ s)ᵀ.
+            const auto [state, j] = columns[c];
+            const double sign     = state == balls_now ? 1.0 : -1.0;
+            const Eigen::Map<const Eigen::VectorXd> r(state->rows.data() + j * n, n),
+              slope(state->slopes.data() + j * n, n);
+            const double k = state->by_deflection[j], damping = state->by_deflection_rate[j];
+            rows.col(c)   = r;
+            ball_g.col(c) = sign * (k * r + damping * state->cage_speed * slope);
+            ball_w.col(c) = gamma * sign * damping * r + gamma * gamma * ball_g.col(c);
+          }
+        ball_u        = mass->solve(rows);
+        ball_solved_u = lu.solve(ball_u);
+        ball_capacitance.compute(Eigen::MatrixXd::Identity(m, m) + ball_w.transpose() * ball_solved_u);
+      }
+
+      Eigen::VectorXd solve_set_up(const Eigen::VectorXd &rhs) const
+      {
+        if (!schur)
+          return lu.solve(rhs);
+        const auto      n = lu.rows();
+        Eigen::VectorXd solution(2 * n);
+        if (ball_u.size() == 0)
+          solution.tail(n) = lu.solve(rhs.tail(n) - lower_left * rhs.head(n));
+        else
+          {
+            const Eigen::VectorXd first = lu.solve(rhs.tail(n) - lower_left * rhs.head(n) -
+                                                   gamma * (ball_u * (ball_g.transpose() * rhs.head(n))));
+            solution.tail(n) = first - ball_solved_u * ball_capacitance.solve(ball_w.transpose() * first);
+          }
+        solution.head(n) = rhs.head(n) + gamma * solution.tail(n);
+        return solution;
+      }
+
+      Eigen::VectorXd solve_updated(const Eigen::VectorXd &rhs) const
+      {
+        Eigen::VectorXd solution = solve_set_up(rhs);
+        for (std::size_t i = 0; i < secant_corrections.size(); ++i)
+          solution += secant_corrections[i] * (residual_changes[i].dot(rhs) / residual_changes[i].squaredNorm());
+        return solution;
+      }
+
+      void clear_updates()
+      {
+        secant_corrections.clear();
+        residual_changes.clear();
+      }
+
+      /// Adds the update from the last iteration unless `rhs` starts a stage
+      /// (another stage time or γ: a new stage, step or attempt).
+      void update(const Eigen::VectorXd &rhs)
+      {
+        realtype time, stage_gamma_now;
+        N_Vector predicted, iterate, stage_rhs, stage_data;
+        void    *user;
+        ARKStepGetNonlinearSystemData(arkode, &time, &predicted, &iterate, &stage_rhs, &stage_gamma_now, &stage_data,
+                                      &user);
+        if (time != stage_time || stage_gamma_now != stage_gamma || last_rhs.size() != rhs.size())
+          {
+            clear_updates();
+            stage_time  = time;
+            stage_gamma = stage_gamma_now;
+            return;
+          }
+        Eigen::VectorXd change = last_rhs - rhs;
+        if (!(change.squaredNorm() > 0.0))
+          return;
+        Eigen::VectorXd correction = last_solution - solve_updated(change);
+        secant_corrections.push_back(std::move(correction));
+        residual_changes.push_back(std::move(change));
+      }
+    };
+
+    SUNLinearSolver_Type eigen_lu_type(SUNLinearSolver) { return SUNLINEARSOLVER_DIRECT; }
+
+    /// Whether A's upper blocks are [I, -γI] exactly (they are for J's [0, I]).
+    bool has_velocity_block_structure(const Eigen::Map<const Eigen::MatrixXd> &a, Eigen::Index n, double &gamma)
+    {
+      if (a.rows() != 2 * n || a.cols() != 2 * n)
+        return false;
+      gamma = -a(0, n);
+      return a.topLeftCorner(n, n).isIdentity(0.0) &&
+             (a.topRightCorner(n, n) + gamma * Eigen::MatrixXd::Identity(n, n)).isZero(0.0);
+    }
+
+    int eigen_lu_setup(SUNLinearSolver solver, SUNMatrix A)
+    {
+      auto      &d = *static_cast<EigenLu *>(solver->content);
+      const auto rows = SM_ROWS_D(A), columns = SM_COLUMNS_D(A);
+      const Eigen::Map<const Eigen::MatrixXd> a(SM_DATA_D(A), rows, columns);
+      const Eigen::Index                      n = rows / 2;
+      d.clear_updates();
+      d.last_rhs.resize(0);
+      ++d.setups;
+      d.schur = rows % 2 == 0 && has_velocity_block_structure(a, n, d.gamma);
+      if (d.schur)
+        {
+          d.lower_left = a.bottomLeftCorner(n, n);
+          d.lu.compute(a.bottomRightCorner(n, n) + d.gamma * d.lower_left); // A₂₂ - A₂₁(-γI)
+        }
+      else
+        d.lu.compute(a);
+      return 0;
+    }
+
+    int eigen_lu_solve(SUNLinearSolver solver, SUNMatrix, N_Vector x, N_Vector b, realtype)
+    {
+      auto      &d    = *static_cast<EigenLu *>(solver->content);
+      const auto size = d.schur ? 2 * d.lu.rows() : d.lu.rows();
+      const Eigen::Map<const Eigen::VectorXd> rhs(N_VGetArrayPointer(b), size);
+      Eigen::Map<Eigen::VectorXd>             solution(N_VGetArrayPointer(x), size);
+      d.update_balls();
+      if (d.arkode == nullptr)
+        {
+          solution = d.solve_set_up(rhs);
+          return 0;
+        }
+      d.update(rhs);
+      d.last_rhs      = rhs;
+      d.last_solution = d.solve_updated(rhs);
+      solution        = d.last_solution;
+      return 0;
+    }
+
+    int eigen_lu_free(SUNLinearSolver solver)
+    {
+      delete static_cast<EigenLu *>(solver->content);
+      solver->content = nullptr;
+      SUNLinSolFreeEmpty(solver);
+      return 0;
+    }
+  } // namespace
+
+  SUNLinearSolver make_newton_solver(SUNContext context, const NewtonBalls &balls)
+  {
+    SUNLinearSolver solver = SUNLinSolNewEmpty(context);
+    auto           *d      = new EigenLu;
+    d->mass                = balls.mass;
+    d->balls_now           = balls.now;
+    d->balls_at_jacobian   = balls.at_jacobian;
+    if (d->mass == nullptr || d->balls_now == nullptr || d->balls_at_jacobian == nullptr)
+      d->balls_now = nullptr;
+    solver->content      = d;
+    solver->ops->gettype = eigen_lu_type;
+    solver->ops->setup   = eigen_lu_setup;
+    solver->ops->solve   = eigen_lu_solve;
+    solver->ops->free    = eigen_lu_free;
+    return solver;
+  }
+
+  void set_secant_updates(SUNLinearSolver solver, void *arkode)
+  {
+    static_cast<EigenLu *>(solver->content)->arkode = arkode;
+  }
+} // namespace fretsim::coupling

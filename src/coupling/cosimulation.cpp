@@ -384,7 +384,9 @@ namespace fretsim::coupling
       check(ARKStepSetErrHandlerFn(sun.arkode, arkode_error, &d), "ARKStepSetErrHandlerFn");
       check(ARKStepSVtolerances(sun.arkode, s.integrator.relative_tolerance, sun.tolerance), "ARKStepSVtolerances");
       sun.matrix = SUNDenseMatrix(static_cast<sunindextype>(2 * n), static_cast<sunindextype>(2 * n), sun.context);
-      sun.solver = make_newton_solver(sun.context, {&d.mass, &d.balls.linearisation(), &d.balls_at_jacobian});
+      sun.solver = s.integrator.balls_at_iterate
+                     ? make_newton_solver(sun.context, {&d.mass, &d.balls.linearisation(), &d.balls_at_jacobian})
+                     : make_newton_solver(sun.context, {});
       check(ARKStepSetLinearSolver(sun.arkode, sun.solver, sun.matrix), "ARKStepSetLinearSolver");
       if (s.integrator.secant_updates)
         {

@@ -524,6 +524,7 @@ namespace fretsim::scenes
       integrator.jacobian_interval = par.get_integer("Integrator/Jacobian interval");
       integrator.deduce_stage_derivative = par.get_bool("Integrator/Deduce stage derivatives");
       integrator.secant_updates          = par.get_bool("Integrator/Secant updates");
+      integrator.balls_at_iterate        = s.housing_model.has_value(); // where it pays: cosimulation.h
       const std::string &predictor = s.stage_predictor = par.get("Integrator/Stage predictor");
       integrator.predictor = predictor == "trivial"          ? coupling::StagePredictor::trivial
                              : predictor == "maximum order"  ? coupling::StagePredictor::maximum_order
@@ -938,6 +939,7 @@ namespace fretsim::scenes
       integrator.set("jacobian_interval", static_cast<long long>(s.run.integrator.jacobian_interval));
       integrator.set("deduce_stage_derivatives", s.run.integrator.deduce_stage_derivative);
       integrator.set("secant_updates", s.run.integrator.secant_updates);
+      integrator.set("balls_at_iterate", s.run.integrator.balls_at_iterate);
       integrator.set("steps", static_cast<long long>(stats.steps));
       integrator.set("rhs_evaluations", static_cast<long long>(stats.rhs_evaluations));
       integrator.set("newton_iterations", static_cast<long long>(stats.newton_iterations));

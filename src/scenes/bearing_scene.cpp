@@ -183,7 +183,7 @@ namespace fretsim::scenes
                            "exp((d - s)/delta)), delta = p_c/k_n, s = 10 delta: the linear layer k_n (d - s) once p >> "
                            "p_c, an exponential tail below. The two bodies' conformal contact then has no edge where "
                            "Newton's iterations jump between loaded sets (D_max within 0.2 % of the sharp closure's on "
-                           "the paper case, an eighth of its Newton failures: docs/bearing.md). 0: sharp. The rigid "
+                           "the paper case, a fourteenth of its Newton failures: docs/bearing.md). 0: sharp. The rigid "
                            "housing's contact closes sharply [Pa]."),
         Spec::selection("Interface/In-step bristle law", "implicit Euler",
                         "What the integrator sees of the bristles within a step; after every step the paper's "

@@ -234,11 +234,11 @@ TEST(BearingScene, AFlexibleHousingTakesItsShareAndAStiffOneIsTheRigidHousing)
   EXPECT_EQ(ResultsFile::read_string_attribute(steel, "/", "housing"), "flexible");
   EXPECT_EQ(ResultsFile::read_string_attribute(rigid, "/", "housing"), "rigid");
   // Newton on the flexible housing (two passes), the layer's exponential
-  // closure at its default: measured 70-85 convergence failures in 495-510
+  // closure at its default: measured 70-85 convergence failures in 488-510
   // steps (the step sequence follows the rounding; with the sharp closure
   // 176-190 in 632-671 on 1-3 threads, the loaded set jumping within
-  // Newton's iteration: docs/bearing.md, Flexible housing). The bound
-  // catches a rise by a fifth.
+  // Newton's iteration; without friction none in 442: docs/bearing.md,
+  // Flexible housing). The bound catches a rise by a fifth.
   const std::string newton = read_text(dir / "steel" / "summary.json");
   const double      steps = summary_number(newton, "steps"),
                failures   = summary_number(newton, "newton_convergence_failures");

@@ -83,8 +83,10 @@ namespace fretsim::coupling
     contact::Field       pressure_now, pressure_before, pressure_guess;
     double               time_now = 0.0, time_before = 0.0;
     std::string         last_error;
-    // The balls' derivatives in the last Jacobian (the Newton solver keeps them current).
+    // The balls' derivatives in the last Jacobian (the Newton solver keeps
+    // them at the iterate), and the evaluations of the forces so far.
     BallContacts::Linearisation balls_at_jacobian;
+    std::size_t                 evaluations = 0;
 
     Impl(const ReducedRing &ring, const CosimulationSettings &s)
       : settings(s)
@@ -186,6 +188,7 @@ namespace fretsim::coupling
       interface.add_forces(q, v, out);
       raceway_residual_from(interface.trial_pressure(), angles);
       balls.add_forces(angles, cage, e, e_rate, q, v, out);
+      ++evaluations;
       stats.contact_seconds += seconds_since(start);
     }
 
@@ -295,6 +298,21 @@ namespace fretsim::coupling
       J.bottomRightCorner(n, n) = lower_right;
       return J.allFinite() ? 0 : 1;
     }
+
+    /// How the force's derivatives at the last evaluation differ from the
+    /// last Jacobian's where the settings keep them at the iterate: the
+    /// balls' and the bristles' of the cells that changed most.
+    void stiffness_change(StiffnessChange &change) const
+    {
+      if (settings.integrator.balls_at_iterate)
+        add_ball_change(balls.linearisation(), balls_at_jacobian, n, change);
+      if (settings.integrator.bristles_at_iterate)
+        {
+          std::vector<double> rows, changes;
+          interface.slip_stiffness_changes(rows, changes);
+          add_slip_change(rows, changes, n, change);
+        }
+    }
   };
 
   namespace
@@ -384,9 +402,12 @@ namespace fretsim::coupling
       check(ARKStepSetErrHandlerFn(sun.arkode, arkode_error, &d), "ARKStepSetErrHandlerFn");
       check(ARKStepSVtolerances(sun.arkode, s.integrator.relative_tolerance, sun.tolerance), "ARKStepSVtolerances");
       sun.matrix = SUNDenseMatrix(static_cast<sunindextype>(2 * n), static_cast<sunindextype>(2 * n), sun.context);
-      sun.solver = s.integrator.balls_at_iterate
-                     ? make_newton_solver(sun.context, {&d.mass, &d.balls.linearisation(), &d.balls_at_jacobian})
-                     : make_newton_solver(sun.context, {});
+      if (s.integrator.bristles_at_iterate)
+        d.interface.track_slip_stiffness();
+      NewtonUpdates updates;
+      if (s.integrator.balls_at_iterate || s.integrator.bristles_at_iterate)
+        updates = {&d.mass, [&d] { return d.evaluations; }, [&d](StiffnessChange &change) { d.stiffness_change(change); }};
+      sun.solver = make_newton_solver(sun.context, updates);
       check(ARKStepSetLinearSolver(sun.arkode, sun.solver, sun.matrix), "ARKStepSetLinearSolver");
       if (s.integrator.secant_updates)
         {

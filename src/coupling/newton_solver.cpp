@@ -35,61 +35,48 @@ namespace fretsim::coupling
       Eigen::VectorXd              last_rhs, last_solution;
       double                       stage_time = 0.0, stage_gamma = 0.0;
 
-      /// The balls' part of J at the iterate rather than at the Jacobian's
-      /// state: Newton's matrix is updated by their difference, a change of
-      /// rank one per loaded ball and state, by Woodbury's identity. A ball
-      /// that comes into contact after the Jacobian (no stiffness there)
-      /// would otherwise throw the iterate from one side of its contact to
-      /// the other.
-      const Eigen::LLT<Eigen::MatrixXd>  *mass = nullptr;
-      const BallContacts::Linearisation *balls_now = nullptr, *balls_at_jacobian = nullptr;
+      /// Parts of J at the iterate rather than at the Jacobian's state
+      /// (NewtonUpdates): Newton's matrix is updated by their change, of
+      /// low rank, by Woodbury's identity. A ball that comes into contact
+      /// after the Jacobian (no stiffness there) would otherwise throw the
+      /// iterate from one side of its contact to the other.
+      NewtonUpdates   updates;
+      StiffnessChange change;
       // ΔS = U Wᵀ on the Schur complement, ΔL = -U Gᵀ on J's lower left (U = M⁻¹ R).
-      Eigen::MatrixXd                      ball_u, ball_w, ball_g, ball_solved_u;
-      Eigen::PartialPivLU<Eigen::MatrixXd> ball_capacitance;
+      Eigen::MatrixXd                      update_u, update_w, update_g, update_solved_u;
+      Eigen::PartialPivLU<Eigen::MatrixXd> capacitance;
       long        setups = 0, setups_seen = -1;
-      std::size_t balls_seen = 0; // the balls' evaluation counter at the last update
+      std::size_t evaluations_seen = 0;
 
-      /// Newton's matrix with the balls of their last evaluation (once per
+      /// Newton's matrix with the change at the last evaluation (once per
       /// evaluation and set-up).
-      void update_balls()
+      void update()
       {
-        if (balls_now == nullptr || (setups == setups_seen && balls_now->evaluations == balls_seen))
+        if (!updates.change)
           return;
-        setups_seen = setups;
-        balls_seen  = balls_now->evaluations;
-        ball_u.resize(0, 0);
-        if (!schur || balls_at_jacobian->rows.size() != balls_now->rows.size())
+        const std::size_t evaluations = updates.evaluations();
+        if (setups == setups_seen && evaluations == evaluations_seen)
+          return;
+        setups_seen      = setups;
+        evaluations_seen = evaluations;
+        update_u.resize(0, 0);
+        if (!schur)
           return;
         const Eigen::Index n = lu.rows();
-        std::vector<std::pair<const BallContacts::Linearisation *, std::size_t>> columns;
-        const auto loaded = [](const BallContacts::Linearisation *state, std::size_t j) {
-          return state->by_deflection[j] != 0.0 || state->by_deflection_rate[j] != 0.0;
-        };
-        for (std::size_t j = 0; j < balls_now->by_deflection.size(); ++j)
-          for (const auto *state : {balls_now, balls_at_jacobian})
-            if (loaded(state, j))
-              columns.emplace_back(state, j);
-        if (columns.empty())
+        change.clear(static_cast<std::size_t>(n));
+        updates.change(change);
+        if (change.terms == 0)
           return;
-        const auto      m = static_cast<Eigen::Index>(columns.size());
-        Eigen::MatrixXd rows(n, m);
-        ball_w.resize(n, m);
-        ball_g.resize(n, m);
-        for (Eigen::Index c = 0; c < m; ++c)
-          {
-            // S = I - γR - γ²L gains, per ball, M⁻¹ r ((γc + γ²k) r + γ²cΩ s)ᵀ.
-            const auto [state, j] = columns[c];
-            const double sign     = state == balls_now ? 1.0 : -1.0;
-            const Eigen::Map<const Eigen::VectorXd> r(state->rows.data() + j * n, n),
-              slope(state->slopes.data() + j * n, n);
-            const double k = state->by_deflection[j], damping = state->by_deflection_rate[j];
-            rows.col(c)   = r;
-            ball_g.col(c) = sign * (k * r + damping * state->cage_speed * slope);
-            ball_w.col(c) = gamma * sign * damping * r + gamma * gamma * ball_g.col(c);
-          }
-        ball_u        = mass->solve(rows);
-        ball_solved_u = lu.solve(ball_u);
-        ball_capacitance.compute(Eigen::MatrixXd::Identity(m, m) + ball_w.transpose() * ball_solved_u);
+        const auto                              m = static_cast<Eigen::Index>(change.terms);
+        const Eigen::Map<const Eigen::MatrixXd> rows(change.rows.data(), n, m);
+        update_g = Eigen::Map<const Eigen::MatrixXd>(change.by_position.data(), n, m);
+        // S = I - γR - γ²L gains M⁻¹ r (γ c r + γ² g)ᵀ per term.
+        update_w = gamma * gamma * update_g;
+        for (Eigen::Index i = 0; i < m; ++i)
+          update_w.col(i) += gamma * change.by_velocity[i] * rows.col(i);
+        update_u        = updates.mass->solve(rows);
+        update_solved_u = lu.solve(update_u);
+        capacitance.compute(Eigen::MatrixXd::Identity(m, m) + update_w.transpose() * update_solved_u);
       }
 
       Eigen::VectorXd solve_set_up(const Eigen::VectorXd &rhs) const
@@ -98,13 +85,13 @@ namespace fretsim::coupling
           return lu.solve(rhs);
         const auto      n = lu.rows();
         Eigen::VectorXd solution(2 * n);
-        if (ball_u.size() == 0)
+        if (update_u.size() == 0)
           solution.tail(n) = lu.solve(rhs.tail(n) - lower_left * rhs.head(n));
         else
           {
             const Eigen::VectorXd first = lu.solve(rhs.tail(n) - lower_left * rhs.head(n) -
-                                                   gamma * (ball_u * (ball_g.transpose() * rhs.head(n))));
-            solution.tail(n) = first - ball_solved_u * ball_capacitance.solve(ball_w.transpose() * first);
+                                                   gamma * (update_u * (update_g.transpose() * rhs.head(n))));
+            solution.tail(n) = first - update_solved_u * capacitance.solve(update_w.transpose() * first);
           }
         solution.head(n) = rhs.head(n) + gamma * solution.tail(n);
         return solution;
@@ -187,7 +174,7 @@ namespace fretsim::coupling
       const auto size = d.schur ? 2 * d.lu.rows() : d.lu.rows();
       const Eigen::Map<const Eigen::VectorXd> rhs(N_VGetArrayPointer(b), size);
       Eigen::Map<Eigen::VectorXd>             solution(N_VGetArrayPointer(x), size);
-      d.update_balls();
+      d.update();
       if (d.arkode == nullptr)
         {
           solution = d.solve_set_up(rhs);
@@ -209,15 +196,56 @@ namespace fretsim::coupling
     }
   } // namespace
 
-  SUNLinearSolver make_newton_solver(SUNContext context, const NewtonBalls &balls)
+  namespace
+  {
+    void add_term(const double *row, const Eigen::VectorXd &by_position, double by_velocity, StiffnessChange &change)
+    {
+      const auto n = static_cast<std::size_t>(by_position.size());
+      change.rows.insert(change.rows.end(), row, row + n);
+      change.by_position.insert(change.by_position.end(), by_position.data(), by_position.data() + n);
+      change.by_velocity.push_back(by_velocity);
+      ++change.terms;
+    }
+  } // namespace
+
+  void add_ball_change(const BallContacts::Linearisation &now, const BallContacts::Linearisation &at_jacobian,
+                       std::size_t n, StiffnessChange &change)
+  {
+    const auto size = static_cast<Eigen::Index>(n);
+    for (const auto *state : {&now, &at_jacobian})
+      {
+        const double sign = state == &now ? 1.0 : -1.0;
+        for (std::size_t j = 0; j < state->by_deflection.size(); ++j)
+          {
+            const double k = state->by_deflection[j], c = state->by_deflection_rate[j];
+            if (k == 0.0 && c == 0.0)
+              continue;
+            const Eigen::Map<const Eigen::VectorXd> r(state->rows.data() + j * n, size),
+              slope(state->slopes.data() + j * n, size);
+            add_term(r.data(), sign * (k * r + c * state->cage_speed * slope), sign * c, change);
+          }
+      }
+  }
+
+  void add_slip_change(const std::vector<double> &rows, const std::vector<double> &changes, std::size_t n,
+                       StiffnessChange &change)
+  {
+    const auto size = static_cast<Eigen::Index>(n);
+    for (std::size_t cell = 0; cell < changes.size() / 4; ++cell)
+      {
+        const Eigen::Map<const Eigen::VectorXd> t0(rows.data() + 2 * cell * n, size), t1(t0.data() + n, size);
+        const double *a = changes.data() + 4 * cell; // A ΔS_c, row-major
+        add_term(t0.data(), a[0] * t0 + a[1] * t1, 0.0, change);
+        add_term(t1.data(), a[2] * t0 + a[3] * t1, 0.0, change);
+      }
+  }
+
+  SUNLinearSolver make_newton_solver(SUNContext context, const NewtonUpdates &updates)
   {
     SUNLinearSolver solver = SUNLinSolNewEmpty(context);
     auto           *d      = new EigenLu;
-    d->mass                = balls.mass;
-    d->balls_now           = balls.now;
-    d->balls_at_jacobian   = balls.at_jacobian;
-    if (d->mass == nullptr || d->balls_now == nullptr || d->balls_at_jacobian == nullptr)
-      d->balls_now = nullptr;
+    if (updates.mass != nullptr && updates.evaluations && updates.change)
+      d->updates = updates;
     solver->content      = d;
     solver->ops->gettype = eigen_lu_type;
     solver->ops->setup   = eigen_lu_setup;

@@ -274,6 +274,11 @@ namespace fretsim::coupling
     // tangent of the Coulomb cap, or zero when sliding).
     std::vector<Eigen::Vector3d> by_penetration;
     std::vector<Eigen::Matrix2d> slip_stiffness;
+    /// The bristles' stiffness at every cell at the last evaluation and at
+    /// the last Jacobian's (zero where a cell carries no shear), kept only
+    /// when asked (track_slip_stiffness).
+    std::vector<Eigen::Matrix2d> slip_now, slip_at_jacobian;
+    bool                         track_slip = false;
     /// The share of ∂t/∂d that is not in ∂t/∂ḋ / τ_d: nonzero only in the
     /// closure band, where the damping's c_n g''(d) ḋ adds to ∂p/∂d but not
     /// to ∂p/∂ḋ.
@@ -492,6 +497,8 @@ namespace fretsim::coupling
         for (std::size_t c = 0; c < cells; ++c)
           {
             loaded[c] = 0;
+            if (track_slip)
+              slip_now[c].setZero();
             // Damping never pulls: a fast-opening cell carries no pressure.
             const LayerPressure layer =
               local ? LayerPressure{local_pressure[c], settings.normal_stiffness, 0.0}
@@ -520,7 +527,9 @@ namespace fretsim::coupling
                 tangential_current[c] = 1;
               }
             const double   ut = dot(row(c, 1), q_data), uz = dot(row(c, 2), q_data);
-            const BristleStep step = bristle_traction(c, p, -(ut - u_t[c]), -(uz - u_z[c]), jacobian);
+            const BristleStep step = bristle_traction(c, p, -(ut - u_t[c]), -(uz - u_z[c]), jacobian || track_slip);
+            if (track_slip && p > 0.0)
+              slip_now[c] = step.by_slip;
             trial_tau_x[c] = step.traction.x();
             trial_tau_y[c] = step.traction.y();
             add_rows(c, cell_area * Eigen::Vector3d(-p, step.traction.x(), step.traction.y()), local_force.data());
@@ -539,6 +548,8 @@ namespace fretsim::coupling
 #pragma omp critical
         force += local_force;
       }
+      if (track_slip && jacobian)
+        slip_at_jacobian = slip_now;
       return force;
     }
 
@@ -787,6 +798,40 @@ namespace fretsim::coupling
   const contact::Field &InterfaceContact::shear_y() const { return impl->tau_y; }
 
   const LocalCompliance *InterfaceContact::local_compliance() const { return impl->local.get(); }
+
+  void InterfaceContact::track_slip_stiffness()
+  {
+    impl->track_slip = true;
+    impl->slip_now.assign(impl->cells, Eigen::Matrix2d::Zero());
+    impl->slip_at_jacobian = impl->slip_now;
+  }
+
+  void InterfaceContact::slip_stiffness_changes(std::vector<double> &rows, std::vector<double> &changes) const
+  {
+    const auto &d = *impl;
+    rows.clear();
+    changes.clear();
+    if (!d.track_slip)
+      return;
+    // A change of a quarter of the bristle's own stiffness: a cell that
+    // turned from sticking (k_t) to sliding (the cap's tangent) or back.
+    const double                                  least = 0.25 * d.settings.tangential_stiffness;
+    std::vector<std::pair<double, std::size_t>> changed;
+    for (std::size_t c = 0; c < d.cells; ++c)
+      if (const double size = (d.slip_now[c] - d.slip_at_jacobian[c]).norm(); size > least)
+        changed.emplace_back(size, c);
+    const std::size_t most = std::min(changed.size(), slip_stiffness_changes_kept);
+    std::partial_sort(changed.begin(), changed.begin() + static_cast<std::ptrdiff_t>(most), changed.end(),
+                      [](const auto &a, const auto &b) { return a.first > b.first; });
+    for (std::size_t k = 0; k < most; ++k)
+      {
+        const std::size_t c = changed[k].second;
+        for (int component = 1; component <= 2; ++component)
+          rows.insert(rows.end(), d.row(c, component), d.row(c, component) + d.n);
+        const Eigen::Matrix2d area_change = d.cell_area * (d.slip_now[c] - d.slip_at_jacobian[c]);
+        changes.insert(changes.end(), {area_change(0, 0), area_change(0, 1), area_change(1, 0), area_change(1, 1)});
+      }
+  }
 
   contact::Field InterfaceContact::effective_friction() const
   {

@@ -1,7 +1,8 @@
-// The co-simulation's solver for Newton's matrix keeps the balls' share of
-// the Jacobian at the iterate: against a dense solve of I - γJ with J at the
-// iterate, on a random ring where a ball comes into contact after the
-// Jacobian's state.
+// The co-simulation's solver for Newton's matrix keeps parts of the
+// Jacobian at the iterate: the balls' share against a dense solve of I - γJ
+// with J at the iterate, on a random ring where a ball comes into contact
+// after the Jacobian's state; the bristles' change as the product it
+// stands for.
 #include <fretsim/coupling/ring_coupling.h>
 #include "../../src/coupling/newton_solver.h"
 #include "synthetic_rings.h"
@@ -128,7 +129,7 @@ TEST(NewtonSolver, KeepsTheBallsShareOfNewtonsMatrixAtTheIterate)
   SUNMatrix A = SUNDenseMatrix(2 * n, 2 * n, context);
   Eigen::Map<Eigen::MatrixXd>(SM_DATA_D(A), 2 * n, 2 * n) = newton_matrix(at_set_up);
   N_Vector x = N_VNew_Serial(2 * n, context), rhs = N_VNew_Serial(2 * n, context);
-  const auto solve = [&](const NewtonBalls &with) {
+  const auto solve = [&](const NewtonUpdates &with) {
     SUNLinearSolver solver = make_newton_solver(context, with);
     EXPECT_EQ(SUNLinSolSetup(solver, A), 0);
     Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(rhs), 2 * n) = b;
@@ -136,7 +137,9 @@ TEST(NewtonSolver, KeepsTheBallsShareOfNewtonsMatrixAtTheIterate)
     SUNLinSolFree(solver);
     return Eigen::VectorXd(Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(x), 2 * n));
   };
-  const Eigen::VectorXd updated  = solve({&factor, &balls.linearisation(), &at_jacobian});
+  const Eigen::VectorXd updated  = solve({&factor, [] { return std::size_t(1); }, [&](StiffnessChange &change) {
+                                            add_ball_change(balls.linearisation(), at_jacobian, n, change);
+                                          }});
   const Eigen::VectorXd as_set_up = solve({});
   const Eigen::VectorXd exact     = newton_matrix(now).partialPivLu().solve(b);
   EXPECT_LT((updated - exact).norm(), 1e-10 * exact.norm());
@@ -148,4 +151,36 @@ TEST(NewtonSolver, KeepsTheBallsShareOfNewtonsMatrixAtTheIterate)
   N_VDestroy(rhs);
   SUNMatDestroy(A);
   SUNContext_Free(&context);
+}
+
+TEST(NewtonSolver, TheBristlesChangeIsTheirRowsAroundTheirStiffnessChange)
+{
+  // Two cells' tangential rows T (2 × n) and A ΔS (2 × 2, not symmetric):
+  // the terms must make ∂F/∂q change by -Σ Tᵀ (A ΔS) T, to rounding.
+  std::mt19937                           generator(7);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  std::vector<double>                    rows(2 * 2 * n), changes(2 * 4);
+  for (double &value : rows)
+    value = uniform(generator);
+  for (double &value : changes)
+    value = 1e8 * uniform(generator);
+  StiffnessChange change;
+  change.clear(n);
+  add_slip_change(rows, changes, n, change);
+  ASSERT_EQ(change.terms, 4u);
+  Eigen::MatrixXd from_terms = Eigen::MatrixXd::Zero(n, n), expected = Eigen::MatrixXd::Zero(n, n);
+  for (std::size_t i = 0; i < change.terms; ++i)
+    {
+      EXPECT_EQ(change.by_velocity[i], 0.0);
+      from_terms -= Eigen::Map<const Eigen::VectorXd>(change.rows.data() + i * n, n) *
+                    Eigen::Map<const Eigen::VectorXd>(change.by_position.data() + i * n, n).transpose();
+    }
+  for (std::size_t cell = 0; cell < 2; ++cell)
+    {
+      const Eigen::Map<const Eigen::Matrix<double, 2, Eigen::Dynamic, Eigen::RowMajor>> T(rows.data() + 2 * cell * n,
+                                                                                            2, n);
+      const Eigen::Map<const Eigen::Matrix<double, 2, 2, Eigen::RowMajor>> A(changes.data() + 4 * cell);
+      expected -= T.transpose() * A * T;
+    }
+  EXPECT_LT((from_terms - expected).norm(), 1e-12 * expected.norm());
 }

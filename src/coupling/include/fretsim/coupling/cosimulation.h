@@ -85,6 +85,11 @@ namespace fretsim::coupling
     /// Newton failures by a third; with the rigid one it changed the step
     /// sequence without fewer failures and cost steps (docs/bearing.md).
     bool balls_at_iterate = false;
+    /// The same for the bristles' stiffness ∂τ/∂ds of the cells where it
+    /// changed most since the Jacobian (InterfaceContact::
+    /// slip_stiffness_changes): a cell that turned from sticking to sliding
+    /// or back has a kink between the two matrices.
+    bool bristles_at_iterate = false;
   };
 
   struct CosimulationSettings

@@ -263,6 +263,18 @@ namespace fretsim::coupling
     /// The half-space in series with the layer, or null without one.
     const LocalCompliance *local_compliance() const;
 
+    /// From now on every evaluation keeps each cell's bristle stiffness
+    /// ∂τ/∂ds (S_c), and each Jacobian's.
+    void track_slip_stiffness();
+    /// The cells whose S_c at the last evaluation differs from the last
+    /// Jacobian's by more than a quarter of the tangential stiffness, the
+    /// largest changes first, at most slip_stiffness_changes_kept: their
+    /// tangential rows ([cell][2][n]: ∂F/∂q changed by -Σ A G_tᵀ ΔS_c G_t)
+    /// and A ΔS_c ([cell][2][2] row-major, A the cell's area). Empty unless
+    /// tracked.
+    void slip_stiffness_changes(std::vector<double> &rows, std::vector<double> &changes) const;
+    static constexpr std::size_t slip_stiffness_changes_kept = 32;
+
   private:
     struct Impl;
     std::unique_ptr<Impl> impl;

@@ -63,7 +63,7 @@ namespace fretsim::coupling
         if (!schur)
           return;
         const Eigen::Index n = lu.rows();
-        change.clear(static_cast<std::size_t>(n));
+        change.clear();
         updates.change(change);
         if (change.terms == 0)
           return;

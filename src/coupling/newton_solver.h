@@ -24,13 +24,12 @@ namespace fretsim::coupling
     std::size_t         terms = 0;
     std::vector<double> rows, by_position; ///< r_i, g_i: [term][n]
     std::vector<double> by_velocity;       ///< c_i: [term]
-    void clear(std::size_t n)
+    void clear()
     {
       terms = 0;
       rows.clear();
       by_position.clear();
       by_velocity.clear();
-      rows.reserve(16 * n);
     }
   };
 

@@ -938,7 +938,6 @@ namespace fretsim::coupling
     // Per footprint at the ball's angle: r·q, r·q̇ and (dr/dψ)·q.
     VectorXd on_q(F), on_v(F), slope_q(F);
     d.linearisation.cage_speed = cage_speed;
-    ++d.linearisation.evaluations;
     for (unsigned int j = 0; j < d.balls; ++j)
       {
         double position = std::fmod(angles[j], 2.0 * M_PI);

@@ -165,7 +165,6 @@ TEST(NewtonSolver, TheBristlesChangeIsTheirRowsAroundTheirStiffnessChange)
   for (double &value : changes)
     value = 1e8 * uniform(generator);
   StiffnessChange change;
-  change.clear(n);
   add_slip_change(rows, changes, n, change);
   ASSERT_EQ(change.terms, 4u);
   Eigen::MatrixXd from_terms = Eigen::MatrixXd::Zero(n, n), expected = Eigen::MatrixXd::Zero(n, n);

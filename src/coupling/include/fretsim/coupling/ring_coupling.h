@@ -318,7 +318,6 @@ namespace fretsim::coupling
       std::vector<double> rows, slopes;                      ///< [ball][n]
       std::vector<double> by_deflection, by_deflection_rate; ///< k_j [N/m], c_j [N s/m]
       double              cage_speed = 0.0;                  ///< Ω [rad/s]
-      std::size_t         evaluations = 0;                   ///< add_forces calls so far
     };
     const Linearisation &linearisation() const;
 

@@ -297,6 +297,12 @@ namespace fretsim::scenes
                         "method, so that it follows the cells that close or open during the iteration: on the "
                         "paper case a sixth of the Newton failures and 0.9 of the run time (docs/bearing.md) [-].",
                         "true|false"),
+        Spec::selection("Integrator/Balls at the iterate", "auto",
+                        "Keep the balls' Hertz stiffness in Newton's matrix at the iterate rather than at the "
+                        "Jacobian's state (a rank-one update per loaded ball): a ball whose load rose since the "
+                        "matrix was set up is otherwise missing from it. auto: with a flexible housing, where it "
+                        "cut the Newton failures by a fifth; with the rigid one it cost steps (docs/bearing.md) [-].",
+                        "auto|true|false"),
         Spec::selection("Integrator/Bristles at the iterate", "false",
                         "Keep the bristles' stiffness in Newton's matrix at the iterate for the cells where it "
                         "changed most since the Jacobian (a cell that turned from sticking to sliding or back; "
@@ -531,7 +537,8 @@ namespace fretsim::scenes
       integrator.jacobian_interval = par.get_integer("Integrator/Jacobian interval");
       integrator.deduce_stage_derivative = par.get_bool("Integrator/Deduce stage derivatives");
       integrator.secant_updates          = par.get_bool("Integrator/Secant updates");
-      integrator.balls_at_iterate        = s.housing_model.has_value(); // where it pays: cosimulation.h
+      const std::string balls = par.get("Integrator/Balls at the iterate");
+      integrator.balls_at_iterate        = balls == "true" || (balls == "auto" && s.housing_model.has_value());
       integrator.bristles_at_iterate     = par.get_bool("Integrator/Bristles at the iterate");
       const std::string &predictor = s.stage_predictor = par.get("Integrator/Stage predictor");
       integrator.predictor = predictor == "trivial"          ? coupling::StagePredictor::trivial

@@ -82,7 +82,7 @@ namespace fretsim::coupling
     /// of the Jacobian's state (a rank-one update per loaded ball): Hertz's
     /// stiffness grows as δ^1/2 from nothing, so a matrix set up before a
     /// ball's load rose misses it. With a flexible housing it cut the
-    /// Newton failures by a third; with the rigid one it changed the step
+    /// Newton failures by a fifth; with the rigid one it changed the step
     /// sequence without fewer failures and cost steps (docs/bearing.md).
     bool balls_at_iterate = false;
     /// The same for the bristles' stiffness ∂τ/∂ds of the cells where it

@@ -50,7 +50,7 @@ namespace fretsim::coupling
 
       /// Newton's matrix with the change at the last evaluation (once per
       /// evaluation and set-up).
-      void update()
+      void update_stiffness()
       {
         if (!updates.change)
           return;
@@ -111,9 +111,9 @@ namespace fretsim::coupling
         residual_changes.clear();
       }
 
-      /// Adds the update from the last iteration unless `rhs` starts a stage
-      /// (another stage time or γ: a new stage, step or attempt).
-      void update(const Eigen::VectorXd &rhs)
+      /// Adds the secant update from the last iteration unless `rhs` starts
+      /// a stage (another stage time or γ: a new stage, step or attempt).
+      void update_secant(const Eigen::VectorXd &rhs)
       {
         realtype time, stage_gamma_now;
         N_Vector predicted, iterate, stage_rhs, stage_data;
@@ -174,13 +174,13 @@ namespace fretsim::coupling
       const auto size = d.schur ? 2 * d.lu.rows() : d.lu.rows();
       const Eigen::Map<const Eigen::VectorXd> rhs(N_VGetArrayPointer(b), size);
       Eigen::Map<Eigen::VectorXd>             solution(N_VGetArrayPointer(x), size);
-      d.update();
+      d.update_stiffness();
       if (d.arkode == nullptr)
         {
           solution = d.solve_set_up(rhs);
           return 0;
         }
-      d.update(rhs);
+      d.update_secant(rhs);
       d.last_rhs      = rhs;
       d.last_solution = d.solve_updated(rhs);
       solution        = d.last_solution;

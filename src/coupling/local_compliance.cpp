@@ -52,6 +52,9 @@ namespace fretsim::coupling
     std::vector<double>         row_self;   ///< C's diagonal entry per grid row [m/Pa]
     double                      uniform = 0.0; ///< the largest displacement under p = 1 everywhere [m/Pa]
     contact::Field              response, gap, direction, masked, preconditioned; // work arrays of solve()
+    // and of solve_with_closure, sized once: it runs at every right-hand side
+    contact::Field              residual, step, image;
+    std::vector<unsigned char>  on, stiff;
     /// The layer's closure (set_closure_pressure): p_c [Pa], 0 for the sharp
     /// one, and the closure's compliance D per cell at the last solve [m/Pa]
     /// (empty when that solve left every cell at zero).
@@ -98,8 +101,10 @@ namespace fretsim::coupling
           row_self.push_back(diagonal(j));
           self = std::max(self, row_self.back());
         }
-      for (auto *field : {&response, &gap, &direction, &masked, &preconditioned})
+      for (auto *field : {&response, &gap, &direction, &masked, &preconditioned, &residual, &step, &image})
         field->assign(g.size(), 0.0);
+      on.assign(g.size(), 0);
+      stiff.assign(g.size(), 0);
       if (periodic_x)
         preconditioner = compliance.inverse(layer_compliance);
       compliance.apply(contact::Field(g.size(), 1.0), response);
@@ -135,9 +140,8 @@ namespace fretsim::coupling
       ++statistics.solves;
       const double tolerance = 1e-7 * std::max(scale, decay);
       closure_diagonal.assign(cells, 0.0);
-      contact::Field             residual(cells), step(cells), z(cells), search(cells), image(cells);
-      std::vector<unsigned char> on(cells), stiff(cells);
-      std::size_t                convolutions = 0;
+      contact::Field &z = preconditioned, &search = direction;
+      std::size_t     convolutions = 0;
       const auto                 precondition = [&](const contact::Field &in, contact::Field &out) {
         for (std::size_t c = 0; c < cells; ++c)
           masked[c] = stiff[c] ? in[c] : 0.0;

@@ -105,7 +105,7 @@ namespace fretsim::coupling
         return solution;
       }
 
-      void clear_updates()
+      void clear_secant_updates()
       {
         secant_corrections.clear();
         residual_changes.clear();
@@ -122,7 +122,7 @@ namespace fretsim::coupling
                                       &user);
         if (time != stage_time || stage_gamma_now != stage_gamma || last_rhs.size() != rhs.size())
           {
-            clear_updates();
+            clear_secant_updates();
             stage_time  = time;
             stage_gamma = stage_gamma_now;
             return;
@@ -154,7 +154,7 @@ namespace fretsim::coupling
       const auto rows = SM_ROWS_D(A), columns = SM_COLUMNS_D(A);
       const Eigen::Map<const Eigen::MatrixXd> a(SM_DATA_D(A), rows, columns);
       const Eigen::Index                      n = rows / 2;
-      d.clear_updates();
+      d.clear_secant_updates();
       d.last_rhs.resize(0);
       ++d.setups;
       d.schur = rows % 2 == 0 && has_velocity_block_structure(a, n, d.gamma);

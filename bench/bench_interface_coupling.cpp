@@ -6,9 +6,16 @@
 //   BM_InterfaceForces/0  one right-hand side (tractions and their generalised
 //                         force), what ARKODE calls most;
 //   BM_InterfaceForces/1  the same with ∂f/∂q and ∂f/∂q̇ (a Newton setup);
-//   BM_InterfaceAccept    the bristle update after an accepted step.
+//   BM_InterfaceAccept    the bristle update after an accepted step;
+//   BM_InterfaceDerivative/0  one product (∂f/∂q) dq + (∂f/∂q̇) dv at the last
+//                         evaluation (Newton-Krylov's J v), the layer alone;
+//   BM_InterfaceDerivative/1  the same with a residual flexibility (Love's
+//                         half-space as its table) and the layer's closure:
+//                         the pressure's coupling solved too.
 // Counter: loaded cells. Compare variants within one run (noisy machines).
 #include <fretsim/coupling/ring_coupling.h>
+
+#include <fretsim/contact/convolution.h>
 
 #include <benchmark/benchmark.h>
 
@@ -118,6 +125,36 @@ namespace
     state.counters["loaded_cells"] = contact.contact_fraction() * s.ring.interface_grid.size();
   }
   BENCHMARK(BM_InterfaceAccept)->Unit(benchmark::kMillisecond);
+
+  void BM_InterfaceDerivative(benchmark::State &state)
+  {
+    Setup s;
+    if (state.range(0) != 0)
+      { // Love's half-space of steel on both sides as the bodies' residual flexibility
+        const auto &grid = s.ring.interface_grid;
+        s.ring.residual_pressure.assign(grid.size() * grid.ny, 0.0);
+        for (int jj = 0; jj < grid.ny; ++jj)
+          for (int j = 0; j < grid.ny; ++j)
+            for (int i = 0; i < grid.nx; ++i)
+              s.ring.residual_pressure[jj * grid.size() + grid.index(i, j)] = contact::influence::normal_displacement(
+                (i > grid.nx / 2 ? i - grid.nx : i) * grid.hx, (j - jj) * grid.hy, grid.hx, grid.hy, 1.15e11);
+        s.settings.normal_stiffness = 1e16;
+        s.settings.closure_pressure = 3e7;
+      }
+    InterfaceContact contact(s.ring, s.settings);
+    contact.keep_derivatives();
+    contact.accept(s.q.data(), s.v.data());
+    contact.add_forces(s.q.data(), s.v.data(), {s.force.data(), nullptr, nullptr});
+    std::vector<double> out(coordinates);
+    for (auto _ : state)
+      {
+        std::fill(out.begin(), out.end(), 0.0);
+        contact.add_derivative(s.q.data(), s.v.data(), out.data());
+        benchmark::DoNotOptimize(out.data());
+      }
+    state.counters["loaded_cells"] = contact.contact_fraction() * s.ring.interface_grid.size();
+  }
+  BENCHMARK(BM_InterfaceDerivative)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 } // namespace
 
 BENCHMARK_MAIN();

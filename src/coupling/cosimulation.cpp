@@ -86,6 +86,7 @@ namespace fretsim::coupling
     // The balls' derivatives in the last Jacobian (the Newton solver keeps
     // them at the iterate), and the evaluations of the forces so far.
     BallContacts::Linearisation balls_at_jacobian;
+    std::vector<double>         evaluated_state, derivative; // jacobian_times: the last evaluation's y, and dF
     std::size_t                 evaluations = 0;
 
     Impl(const ReducedRing &ring, const CosimulationSettings &s)
@@ -189,6 +190,11 @@ namespace fretsim::coupling
       raceway_residual_from(interface.trial_pressure(), angles);
       balls.add_forces(angles, cage, e, e_rate, q, v, out);
       ++evaluations;
+      if (settings.integrator.newton_krylov)
+        {
+          evaluated_state.assign(q, q + n);
+          evaluated_state.insert(evaluated_state.end(), v, v + n);
+        }
       stats.contact_seconds += seconds_since(start);
     }
 
@@ -297,6 +303,35 @@ namespace fretsim::coupling
       J.bottomLeftCorner(n, n)  = lower_left;
       J.bottomRightCorner(n, n) = lower_right;
       return J.allFinite() ? 0 : 1;
+    }
+
+    /// J v at (t, y) (IntegratorSettings::newton_krylov): the interface's
+    /// and the balls' derivatives at the last evaluation, which is at y in
+    /// Newton's iteration (else evaluated there first).
+    void jacobian_times(double t, const double *y, const double *v, double *out)
+    {
+      if (!std::equal(y, y + 2 * n, evaluated_state.begin(), evaluated_state.end()))
+        contact_forces(t, y, y + n, false);
+      const auto start = Clock::now();
+      derivative.assign(n, 0.0);
+      interface.add_derivative(v, v + n, derivative.data());
+      const auto &ball = balls.linearisation();
+      const Eigen::Map<const Eigen::VectorXd> by_position(v, n), by_velocity(v + n, n);
+      Eigen::Map<Eigen::VectorXd>             force_change(derivative.data(), n);
+      for (std::size_t j = 0; j < ball.by_deflection.size(); ++j)
+        {
+          const double k = ball.by_deflection[j], c = ball.by_deflection_rate[j];
+          if (k == 0.0 && c == 0.0)
+            continue;
+          const Eigen::Map<const Eigen::VectorXd> r(ball.rows.data() + j * n, n), slope(ball.slopes.data() + j * n, n);
+          force_change -= r * (k * r.dot(by_position) + c * ball.cage_speed * slope.dot(by_position) +
+                               c * r.dot(by_velocity));
+        }
+      Eigen::Map<Eigen::VectorXd>(out, n) = by_velocity;
+      Eigen::Map<Eigen::VectorXd> acceleration(out + n, n);
+      acceleration = mass.solve(force_change);
+      acceleration.noalias() -= mass_inverse_stiffness * by_position + mass_inverse_damping * by_velocity;
+      stats.contact_seconds += seconds_since(start);
     }
 
     /// How the force's derivatives at the last evaluation differ from the
@@ -409,7 +444,21 @@ namespace fretsim::coupling
         updates = {&d.mass, [&d] { return d.evaluations; }, [&d](StiffnessChange &change) { d.stiffness_change(change); }};
       sun.solver = make_newton_solver(sun.context, updates);
       check(ARKStepSetLinearSolver(sun.arkode, sun.solver, sun.matrix), "ARKStepSetLinearSolver");
-      if (s.integrator.secant_updates)
+      if (s.integrator.newton_krylov)
+        {
+          d.interface.keep_derivatives();
+          JacobianProducts products;
+          products.times = [&d](double t, const double *y, const double *v, double *out) {
+            d.jacobian_times(t, y, v, out);
+          };
+          // ARKODE's own share of Newton's tolerance for an iterative linear solve (its eplifac).
+          products.tolerance  = 0.05 * s.integrator.newton_tolerance;
+          products.iterations = &d.stats.krylov_iterations;
+          set_krylov(sun.solver, sun.arkode, products);
+          // GMRES solves with the stage's own γ.
+          check(ARKStepSetLinearSolutionScaling(sun.arkode, SUNFALSE), "ARKStepSetLinearSolutionScaling");
+        }
+      else if (s.integrator.secant_updates)
         {
           set_secant_updates(sun.solver, sun.arkode);
           // The updates need the correction Newton takes to be the solve's:

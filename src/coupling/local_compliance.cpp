@@ -140,29 +140,8 @@ namespace fretsim::coupling
       ++statistics.solves;
       const double tolerance = 1e-7 * std::max(scale, decay);
       closure_diagonal.assign(cells, 0.0);
-      contact::Field &z = preconditioned, &search = direction;
-      std::size_t     convolutions = 0;
-      const auto                 precondition = [&](const contact::Field &in, contact::Field &out) {
-        for (std::size_t c = 0; c < cells; ++c)
-          masked[c] = stiff[c] ? in[c] : 0.0;
-        if (preconditioner)
-          {
-            ++convolutions;
-            preconditioner->apply(masked, out);
-          }
-        else
-          out = masked;
-        for (std::size_t c = 0; c < cells; ++c)
-          if (!stiff[c])
-            out[c] = on[c] ? in[c] / (self + layer_compliance + closure_diagonal[c]) : 0.0;
-      };
-      const auto dot = [&](const contact::Field &u, const contact::Field &v) {
-        double sum = 0.0;
-        for (std::size_t c = 0; c < cells; ++c)
-          sum += on[c] ? u[c] * v[c] : 0.0;
-        return sum;
-      };
-      constexpr int max_newton = 200, max_cg = 500;
+      std::size_t convolutions = 0;
+      constexpr int max_newton = 200;
       for (int newton = 0; newton < max_newton; ++newton)
         {
           apply(p, gap, convolutions);
@@ -200,41 +179,8 @@ namespace fretsim::coupling
           // (C + I/k_n + D) step = −r on the cells carrying pressure, to a
           // hundredth of the residual (an inexact Newton step).
           for (std::size_t c = 0; c < cells; ++c)
-            {
-              step[c]     = 0.0;
-              residual[c] = on[c] ? -residual[c] : 0.0;
-            }
-          precondition(residual, z);
-          search         = z;
-          double product = dot(residual, z);
-          const double inner = std::max(0.5 * tolerance, 1e-2 * worst);
-          int          it    = 0;
-          for (; it < max_cg; ++it)
-            {
-              double largest = 0.0;
-              for (std::size_t c = 0; c < cells; ++c)
-                largest = std::max(largest, std::abs(residual[c]));
-              if (largest <= inner)
-                break;
-              for (std::size_t c = 0; c < cells; ++c)
-                masked[c] = on[c] ? search[c] : 0.0;
-              apply(masked, image, convolutions);
-              for (std::size_t c = 0; c < cells; ++c)
-                image[c] += closure_diagonal[c] * masked[c];
-              const double length = product / dot(search, image);
-              for (std::size_t c = 0; c < cells; ++c)
-                if (on[c])
-                  {
-                    step[c] += length * search[c];
-                    residual[c] -= length * image[c];
-                  }
-              precondition(residual, z);
-              const double next = dot(residual, z);
-              for (std::size_t c = 0; c < cells; ++c)
-                search[c] = on[c] ? z[c] + next / product * search[c] : 0.0;
-              product = next;
-            }
-          if (it == max_cg)
+            residual[c] = on[c] ? -residual[c] : 0.0;
+          if (!conjugate_gradients(residual, step, std::max(0.5 * tolerance, 1e-2 * worst), convolutions))
             break;
           for (std::size_t c = 0; c < cells; ++c)
             if (on[c])
@@ -245,6 +191,93 @@ namespace fretsim::coupling
         }
       statistics.solve_convolutions += convolutions;
       throw std::runtime_error("local compliance: the interface pressure with the layer's closure did not converge");
+    }
+
+    /// (C + I/k_n + D) x = r on the cells `on` (D the closure's, none
+    /// without one), by conjugate gradients from x = 0 until the largest
+    /// residual is at most `inner`; preconditioned by the FFT inverse on the
+    /// `stiff` cells and by the diagonal on the others. `r` is left as the
+    /// residual. False if it did not converge.
+    bool conjugate_gradients(contact::Field &r, contact::Field &x, double inner, std::size_t &convolutions)
+    {
+      constexpr int     max_cg = 500;
+      const std::size_t cells  = grid.size();
+      const bool        closed = !closure_diagonal.empty();
+      contact::Field   &z = preconditioned, &search = direction;
+      const auto precondition = [&](const contact::Field &in, contact::Field &out) {
+        for (std::size_t c = 0; c < cells; ++c)
+          masked[c] = stiff[c] ? in[c] : 0.0;
+        if (preconditioner)
+          {
+            ++convolutions;
+            preconditioner->apply(masked, out);
+          }
+        else
+          out = masked;
+        for (std::size_t c = 0; c < cells; ++c)
+          if (!stiff[c])
+            out[c] = on[c] ? in[c] / (self + layer_compliance + (closed ? closure_diagonal[c] : 0.0)) : 0.0;
+      };
+      const auto dot = [&](const contact::Field &u, const contact::Field &v) {
+        double sum = 0.0;
+        for (std::size_t c = 0; c < cells; ++c)
+          sum += on[c] ? u[c] * v[c] : 0.0;
+        return sum;
+      };
+      std::fill(x.begin(), x.end(), 0.0);
+      precondition(r, z);
+      search         = z;
+      double product = dot(r, z);
+      for (int it = 0; it < max_cg; ++it)
+        {
+          double largest = 0.0;
+          for (std::size_t c = 0; c < cells; ++c)
+            largest = std::max(largest, std::abs(r[c]));
+          if (largest <= inner)
+            return true;
+          for (std::size_t c = 0; c < cells; ++c)
+            masked[c] = on[c] ? search[c] : 0.0;
+          apply(masked, image, convolutions);
+          if (closed)
+            for (std::size_t c = 0; c < cells; ++c)
+              image[c] += closure_diagonal[c] * masked[c];
+          const double length = product / dot(search, image);
+          for (std::size_t c = 0; c < cells; ++c)
+            if (on[c])
+              {
+                x[c] += length * search[c];
+                r[c] -= length * image[c];
+              }
+          precondition(r, z);
+          const double next = dot(r, z);
+          for (std::size_t c = 0; c < cells; ++c)
+            search[c] = on[c] ? z[c] + next / product * search[c] : 0.0;
+          product = next;
+        }
+      return false;
+    }
+
+    /// LocalCompliance::pressure_change.
+    void pressure_change(const contact::Field &p, const contact::Field &approach_change, contact::Field &change,
+                         double relative_tolerance)
+    {
+      const std::size_t cells = grid.size();
+      double            largest = 0.0;
+      for (std::size_t c = 0; c < cells; ++c)
+        {
+          on[c]    = p[c] > 0.0;
+          stiff[c] = on[c] && (closure_diagonal.empty() || closure_diagonal[c] <= self);
+          residual[c] = on[c] ? approach_change[c] : 0.0;
+          largest     = std::max(largest, std::abs(residual[c]));
+        }
+      change.assign(cells, 0.0);
+      if (largest == 0.0)
+        return;
+      std::size_t convolutions = 0;
+      if (!conjugate_gradients(residual, change, relative_tolerance * largest, convolutions))
+        throw std::runtime_error("local compliance: the pressure's change did not converge");
+      ++statistics.changes;
+      statistics.change_convolutions += convolutions;
     }
 
     /// The closure's compliance D of cell c at the last solve [m/Pa].
@@ -558,6 +591,12 @@ namespace fretsim::coupling
   double LocalCompliance::contact_pressure() const
   {
     return impl->closure_pressure * std::exp(-Impl::closure_offset);
+  }
+
+  void LocalCompliance::pressure_change(const contact::Field &pressure, const contact::Field &approach_change,
+                                        contact::Field &change, double relative_tolerance)
+  {
+    impl->pressure_change(pressure, approach_change, change, relative_tolerance);
   }
 
   int LocalCompliance::solve(const contact::Field &b, contact::Field &p)

@@ -48,6 +48,15 @@ namespace fretsim::coupling
       long        setups = 0, setups_seen = -1;
       std::size_t evaluations_seen = 0;
 
+      bool             krylov = false;
+      JacobianProducts products;
+      N_Vector         weights = nullptr; ///< ARKODE's error weights (krylov)
+
+      /// (I - γJ) x = b with J at the iterate, by GMRES (Saad & Schultz,
+      /// right-preconditioned by the set-up matrix, in the error-weighted
+      /// norm), from x = 0.
+      void solve_krylov(const Eigen::Map<const Eigen::VectorXd> &rhs, Eigen::Map<Eigen::VectorXd> &solution);
+
       /// Newton's matrix with the change at the last evaluation (once per
       /// evaluation and set-up).
       void update_stiffness()
@@ -136,6 +145,79 @@ namespace fretsim::coupling
       }
     };
 
+    void EigenLu::solve_krylov(const Eigen::Map<const Eigen::VectorXd> &rhs, Eigen::Map<Eigen::VectorXd> &solution)
+    {
+      constexpr int      most = 40; // Krylov vectors (no restart; then the best correction found)
+      const Eigen::Index size = rhs.size();
+      // The stage's time, iterate, γ and error weights; without ARKODE (a
+      // solve on its own) the set-up's γ and unit weights.
+      realtype        time = 0.0, stage_gamma_now = gamma;
+      const double   *y    = nullptr;
+      Eigen::VectorXd w    = Eigen::VectorXd::Ones(size);
+      if (arkode != nullptr)
+        {
+          N_Vector predicted, iterate, stage_rhs, stage_data;
+          void    *user;
+          ARKStepGetNonlinearSystemData(arkode, &time, &predicted, &iterate, &stage_rhs, &stage_gamma_now,
+                                        &stage_data, &user);
+          if (weights == nullptr)
+            weights = N_VClone(iterate);
+          ARKStepGetErrWeights(arkode, weights);
+          w = Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(weights), size);
+          y = N_VGetArrayPointer(iterate);
+        }
+      const double  scale = 1.0 / std::sqrt(static_cast<double>(size)); // the RMS norm's
+      // Arnoldi on W P⁻¹ A W⁻¹ (left-preconditioned: its residual is the
+      // error of the correction in Newton's own norm, as far as P holds A).
+      Eigen::MatrixXd V(size, most + 1), H = Eigen::MatrixXd::Zero(most + 1, most);
+      Eigen::VectorXd cosines(most), sines(most), g = Eigen::VectorXd::Zero(most + 1), product(size);
+      const Eigen::VectorXd start = solve_set_up(rhs).cwiseProduct(w);
+      g(0)                        = start.norm();
+      solution.setZero();
+      if (!(g(0) * scale > products.tolerance))
+        {
+          solution = start.cwiseQuotient(w);
+          return;
+        }
+      V.col(0) = start / g(0);
+      int k    = 0;
+      while (k < most && std::abs(g(k)) * scale > products.tolerance)
+        {
+          const Eigen::VectorXd direction = V.col(k).cwiseQuotient(w);
+          products.times(time, y, direction.data(), product.data());
+          Eigen::VectorXd next = solve_set_up(direction - stage_gamma_now * product).cwiseProduct(w);
+          for (int i = 0; i <= k; ++i) // modified Gram–Schmidt
+            {
+              H(i, k) = V.col(i).dot(next);
+              next -= H(i, k) * V.col(i);
+            }
+          H(k + 1, k) = next.norm();
+          if (H(k + 1, k) > 0.0)
+            V.col(k + 1) = next / H(k + 1, k);
+          for (int i = 0; i < k; ++i) // the earlier rotations on the new column
+            {
+              const double upper = cosines(i) * H(i, k) + sines(i) * H(i + 1, k);
+              H(i + 1, k)        = -sines(i) * H(i, k) + cosines(i) * H(i + 1, k);
+              H(i, k)            = upper;
+            }
+          const double radius = std::hypot(H(k, k), H(k + 1, k));
+          if (!(radius > 0.0))
+            break; // (a singular operator: keep what was found)
+          cosines(k)          = H(k, k) / radius;
+          sines(k)            = H(k + 1, k) / radius;
+          H(k, k)             = radius;
+          H(k + 1, k)         = 0.0;
+          g(k + 1)            = -sines(k) * g(k);
+          g(k) *= cosines(k);
+          ++k;
+        }
+      if (products.iterations)
+        *products.iterations += k;
+      const Eigen::VectorXd coefficients =
+        H.topLeftCorner(k, k).triangularView<Eigen::Upper>().solve(g.head(k));
+      solution = (V.leftCols(k) * coefficients).cwiseQuotient(w);
+    }
+
     SUNLinearSolver_Type eigen_lu_type(SUNLinearSolver) { return SUNLINEARSOLVER_DIRECT; }
 
     /// Whether A's upper blocks are [I, -γI] exactly (they are for J's [0, I]).
@@ -175,6 +257,11 @@ namespace fretsim::coupling
       const Eigen::Map<const Eigen::VectorXd> rhs(N_VGetArrayPointer(b), size);
       Eigen::Map<Eigen::VectorXd>             solution(N_VGetArrayPointer(x), size);
       d.update_stiffness();
+      if (d.krylov)
+        {
+          d.solve_krylov(rhs, solution);
+          return 0;
+        }
       if (d.arkode == nullptr)
         {
           solution = d.solve_set_up(rhs);
@@ -189,6 +276,8 @@ namespace fretsim::coupling
 
     int eigen_lu_free(SUNLinearSolver solver)
     {
+      if (auto *d = static_cast<EigenLu *>(solver->content); d && d->weights)
+        N_VDestroy(d->weights);
       delete static_cast<EigenLu *>(solver->content);
       solver->content = nullptr;
       SUNLinSolFreeEmpty(solver);
@@ -257,5 +346,13 @@ namespace fretsim::coupling
   void set_secant_updates(SUNLinearSolver solver, void *arkode)
   {
     static_cast<EigenLu *>(solver->content)->arkode = arkode;
+  }
+
+  void set_krylov(SUNLinearSolver solver, void *arkode, const JacobianProducts &products)
+  {
+    auto *d     = static_cast<EigenLu *>(solver->content);
+    d->arkode   = arkode;
+    d->krylov   = true;
+    d->products = products;
   }
 } // namespace fretsim::coupling

@@ -52,9 +52,26 @@ namespace fretsim::coupling
     std::function<void(StiffnessChange &change)> change;
   };
 
+  /// What GMRES reads to solve (I - γJ) x = b with J at the iterate.
+  struct JacobianProducts
+  {
+    /// out = J v at (t, y), y the stage's iterate [q, q̇] (null without ARKODE).
+    std::function<void(double t, const double *y, const double *v, double *out)> times;
+    /// GMRES stops when its left-preconditioned residual (the correction's
+    /// error as far as Newton's matrix holds J) has this error-weighted RMS
+    /// norm [-].
+    double tolerance = 0.0;
+    /// GMRES's iterations so far, for the statistics (may be null).
+    long *iterations = nullptr;
+  };
+
   /// Free with SUNLinSolFree. Without `updates.change`: Newton's matrix as set up.
   SUNLinearSolver make_newton_solver(SUNContext context, const NewtonUpdates &updates);
 
   /// Broyden's secant updates between the iterations of ARKODE's stages.
   void set_secant_updates(SUNLinearSolver solver, void *arkode);
+  /// Newton's systems by GMRES with J at the iterate, preconditioned by the
+  /// matrix as set up (with its NewtonUpdates); no secant updates. Without
+  /// `arkode` (a solve on its own): the set-up's γ and unit error weights.
+  void set_krylov(SUNLinearSolver solver, void *arkode, const JacobianProducts &products);
 } // namespace fretsim::coupling

@@ -246,6 +246,76 @@ namespace fretsim::coupling
           y_sum += static_cast<double>(values[j]) * y[j];
         }
     }
+
+    // The same in single precision throughout, for the derivative's
+    // products (InterfaceContact::add_derivative: Newton's linear solve
+    // asks for 1e-3 of them at most): twice the lanes.
+    using Float8 = float __attribute__((vector_size(32), aligned(4), __may_alias__));
+
+    inline float lanes_sum(const Float8 &lanes)
+    {
+      return ((lanes[0] + lanes[1]) + (lanes[2] + lanes[3])) + ((lanes[4] + lanes[5]) + (lanes[6] + lanes[7]));
+    }
+
+    /// Σ_j values[j] x[j] and Σ_j values[j] y[j] over n values, in single precision.
+    __attribute__((target_clones("avx2", "default"))) void
+    row_dot2_single(const float *values, const float *x, const float *y, std::size_t n, float &x_sum, float &y_sum)
+    {
+      Float8            x_lanes = {}, y_lanes = {};
+      const std::size_t whole = n - n % 8;
+      for (std::size_t j = 0; j < whole; j += 8)
+        {
+          const Float8 row = *reinterpret_cast<const Float8 *>(values + j);
+          x_lanes += row * *reinterpret_cast<const Float8 *>(x + j);
+          y_lanes += row * *reinterpret_cast<const Float8 *>(y + j);
+        }
+      x_sum = lanes_sum(x_lanes);
+      y_sum = lanes_sum(y_lanes);
+      for (std::size_t j = whole; j < n; ++j)
+        {
+          x_sum += values[j] * x[j];
+          y_sum += values[j] * y[j];
+        }
+    }
+
+    /// Two rows against one vector, in single precision.
+    __attribute__((target_clones("avx2", "default"))) void
+    rows_dot_single(const float *first, const float *second, const float *x, std::size_t n, float &first_sum,
+                    float &second_sum)
+    {
+      Float8            first_lanes = {}, second_lanes = {};
+      const std::size_t whole = n - n % 8;
+      for (std::size_t j = 0; j < whole; j += 8)
+        {
+          const Float8 along = *reinterpret_cast<const Float8 *>(x + j);
+          first_lanes += *reinterpret_cast<const Float8 *>(first + j) * along;
+          second_lanes += *reinterpret_cast<const Float8 *>(second + j) * along;
+        }
+      first_sum  = lanes_sum(first_lanes);
+      second_sum = lanes_sum(second_lanes);
+      for (std::size_t j = whole; j < n; ++j)
+        {
+          first_sum += first[j] * x[j];
+          second_sum += second[j] * x[j];
+        }
+    }
+
+    /// out += Σ_k weights[k] rows[k] over `count` rows of n values, in single precision.
+    __attribute__((target_clones("avx2", "default"))) void
+    add_rows_single(const float *const *rows, const float *weights, int count, std::size_t n, float *out)
+    {
+      const std::size_t whole = n - n % 8;
+      for (std::size_t j = 0; j < whole; j += 8)
+        {
+          Float8 sum = *reinterpret_cast<const Float8 *>(out + j);
+          for (int k = 0; k < count; ++k)
+            sum += weights[k] * *reinterpret_cast<const Float8 *>(rows[k] + j);
+          *reinterpret_cast<Float8 *>(out + j) = sum;
+        }
+      for (std::size_t j = whole; j < n; ++j)
+        for (int k = 0; k < count; ++k)
+          out[j] += weights[k] * rows[k][j];
+    }
   } // namespace
 
   // ---------------------------------------------------------------------------
@@ -279,6 +349,10 @@ namespace fretsim::coupling
     /// when asked (track_slip_stiffness).
     std::vector<Eigen::Matrix2d> slip_now, slip_at_jacobian;
     bool                         track_slip = false;
+    /// Every evaluation keeps the loaded cells' derivatives (as a
+    /// Jacobian's), for add_derivative.
+    bool                         keep_derivatives = false;
+    contact::Field               approach_change, pressure_change; // add_derivative's work arrays
     /// The share of ∂t/∂d that is not in ∂t/∂ḋ / τ_d: nonzero only in the
     /// closure band, where the damping's c_n g''(d) ḋ adds to ∂p/∂d but not
     /// to ∂p/∂ḋ.
@@ -458,7 +532,7 @@ namespace fretsim::coupling
     {
       const bool jacobian = out.by_position != nullptr;
       set_structural_approach(q_data, v_data);
-      Eigen::Map<VectorXd>(out.force, n) += cell_forces(q_data, jacobian);
+      Eigen::Map<VectorXd>(out.force, n) += cell_forces(q_data, jacobian || keep_derivatives);
       if (jacobian)
         add_jacobian(out);
     }
@@ -613,6 +687,66 @@ namespace fretsim::coupling
         }
       return step;
     }
+
+    /// InterfaceContact::add_derivative: the products of add_jacobian's
+    /// factors with (dq, dv), cell by cell, and the pressure's coupling
+    /// solved rather than factorised.
+    void add_derivative(const double *dq, const double *dv, double *out)
+    {
+      const double damping_time = settings.normal_damping_time;
+      const std::vector<float> position(dq, dq + n), velocity(dv, dv + n);
+      approach_change.assign(cells, 0.0);
+#pragma omp parallel for schedule(static)
+      for (std::size_t c = 0; c < cells; ++c)
+        if (loaded[c])
+          {
+            float by_position = 0.0f, by_velocity = 0.0f;
+            row_dot2_single(row(c, 0), position.data(), velocity.data(), n, by_position, by_velocity);
+            approach_change[c] = local ? by_position + damping_time * by_velocity
+                                       : by_position + damping_time * (1.0 - band_share[c]) * by_velocity;
+          }
+      if (local)
+        local->pressure_change(local_pressure, approach_change, pressure_change, derivative_tolerance);
+      const contact::Field &normal = local ? pressure_change : approach_change;
+      std::vector<float>    sum(n, 0.0f);
+#pragma omp parallel
+      {
+        std::vector<float> part(n, 0.0f);
+#pragma omp for schedule(static)
+        for (std::size_t c = 0; c < cells; ++c)
+          {
+            if (!loaded[c])
+              continue;
+            Eigen::Vector3d traction = by_penetration[c] * normal[c];
+            const float    *cell_rows[3] = {row(c, 0), row(c, 1), row(c, 2)};
+            if (slip_stiffness[c].isZero(0.0) && by_penetration[c].tail<2>().isZero(0.0))
+              { // no shear (the closure's tail): the radial row alone
+                const float weight = static_cast<float>(cell_area * traction[0]);
+                add_rows_single(cell_rows, &weight, 1, n, part.data());
+                continue;
+              }
+            if (!slip_stiffness[c].isZero(0.0))
+              {
+                float along_t = 0.0f, along_z = 0.0f;
+                rows_dot_single(cell_rows[1], cell_rows[2], position.data(), n, along_t, along_z);
+                traction.tail<2>() -= slip_stiffness[c] * Eigen::Vector2d(along_t, along_z);
+              }
+            const float weights[3] = {static_cast<float>(cell_area * traction[0]),
+                                      static_cast<float>(cell_area * traction[1]),
+                                      static_cast<float>(cell_area * traction[2])};
+            add_rows_single(cell_rows, weights, 3, n, part.data());
+          }
+#pragma omp critical
+        for (std::size_t j = 0; j < n; ++j)
+          sum[j] += part[j];
+      }
+      for (std::size_t j = 0; j < n; ++j)
+        out[j] += sum[j];
+    }
+    /// add_derivative's pressure change to this fraction of the largest
+    /// approach change (1e-3 took a third more convolutions for as many
+    /// Newton failures on the paper's case, docs/bearing.md).
+    static constexpr double derivative_tolerance = 1e-2;
 
     /// The loaded cells' factors of the Jacobian (add_jacobian), one row (or
     /// two, tangential) per cell.
@@ -798,6 +932,13 @@ namespace fretsim::coupling
   const contact::Field &InterfaceContact::shear_y() const { return impl->tau_y; }
 
   const LocalCompliance *InterfaceContact::local_compliance() const { return impl->local.get(); }
+
+  void InterfaceContact::keep_derivatives() { impl->keep_derivatives = true; }
+
+  void InterfaceContact::add_derivative(const double *dq, const double *dv, double *out)
+  {
+    impl->add_derivative(dq, dv, out);
+  }
 
   void InterfaceContact::track_slip_stiffness()
   {

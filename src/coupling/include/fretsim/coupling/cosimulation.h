@@ -90,6 +90,14 @@ namespace fretsim::coupling
     /// slip_stiffness_changes): a cell that turned from sticking to sliding
     /// or back has a kink between the two matrices.
     bool bristles_at_iterate = false;
+    /// Newton's linear systems with the whole Jacobian at the iterate: GMRES
+    /// on (I - γJ) with J v from the last evaluation's derivatives (the
+    /// interface's pressure coupling solved by conjugate gradients, not
+    /// factorised), preconditioned by Newton's matrix as set up. A flexible
+    /// housing's conformal contact changes its stiffness within one Newton
+    /// correction, and Newton with the matrix as set up failed in a fifth of
+    /// the steps; no secant updates then (docs/bearing.md).
+    bool newton_krylov = false;
   };
 
   struct CosimulationSettings
@@ -136,6 +144,8 @@ namespace fretsim::coupling
   {
     long   steps = 0, rhs_evaluations = 0, newton_iterations = 0, newton_failures = 0, error_test_failures = 0,
            jacobian_evaluations = 0, linear_setups = 0;
+    /// GMRES iterations (IntegratorSettings::newton_krylov), each a J v.
+    long   krylov_iterations = 0;
     double last_step = 0.0, smallest_step = 0.0, largest_step = 0.0; ///< [s]
     /// Output intervals finished with ARKODE's own Newton start (the last
     /// solution, 3 iterations) after the settings' Newton failed a step.

@@ -148,6 +148,15 @@ namespace fretsim::coupling
                               std::size_t columns, std::vector<double> &result);
 
     /// Work done so far, in convolutions (the cost of both calls).
+    /// The pressure's change under a change of the approach at `pressure`,
+    /// the last solve's: (C + I/k_n + D)_AA Δp = Δb on the cells A carrying
+    /// pressure (D the closure's compliance there), zero elsewhere; by the
+    /// solve's preconditioned conjugate gradients to `relative_tolerance`
+    /// of the largest Δb. The Jacobian's sensitivity applied to one vector,
+    /// at the state of the last solve rather than the last Jacobian.
+    void pressure_change(const contact::Field &pressure, const contact::Field &approach_change,
+                         contact::Field &change, double relative_tolerance);
+
     struct Statistics
     {
       std::size_t solves = 0, solve_convolutions = 0;
@@ -155,6 +164,7 @@ namespace fretsim::coupling
       std::size_t sensitivity_reuses = 0; ///< sensitivities answered from the last one (loaded set within 2 %)
       std::size_t sensitivity_factorisations = 0; ///< sensitivities solved by a Cholesky factorisation
       std::size_t sensitivity_single_precision = 0; ///< of those, in single precision
+      std::size_t changes = 0, change_convolutions = 0; ///< pressure_change
     };
     const Statistics &statistics() const;
 

@@ -263,6 +263,14 @@ namespace fretsim::coupling
     /// The half-space in series with the layer, or null without one.
     const LocalCompliance *local_compliance() const;
 
+    /// Keep every evaluation's per-cell derivatives (a Jacobian's), so that
+    /// add_derivative can follow the last evaluation.
+    void keep_derivatives();
+    /// out += (∂F/∂q) dq + (∂F/∂q̇) dv at the last evaluation (keep_derivatives):
+    /// the interface force's derivative along one direction, its pressure
+    /// coupling solved on the loaded cells (LocalCompliance::pressure_change).
+    void add_derivative(const double *dq, const double *dv, double *out);
+
     /// From now on every evaluation keeps each cell's bristle stiffness
     /// ∂τ/∂ds (S_c), and each Jacobian's.
     void track_slip_stiffness();

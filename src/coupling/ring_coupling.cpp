@@ -257,46 +257,25 @@ namespace fretsim::coupling
       return ((lanes[0] + lanes[1]) + (lanes[2] + lanes[3])) + ((lanes[4] + lanes[5]) + (lanes[6] + lanes[7]));
     }
 
-    /// Σ_j values[j] x[j] and Σ_j values[j] y[j] over n values, in single precision.
-    __attribute__((target_clones("avx2", "default"))) void
-    row_dot2_single(const float *values, const float *x, const float *y, std::size_t n, float &x_sum, float &y_sum)
-    {
-      Float8            x_lanes = {}, y_lanes = {};
-      const std::size_t whole = n - n % 8;
-      for (std::size_t j = 0; j < whole; j += 8)
-        {
-          const Float8 row = *reinterpret_cast<const Float8 *>(values + j);
-          x_lanes += row * *reinterpret_cast<const Float8 *>(x + j);
-          y_lanes += row * *reinterpret_cast<const Float8 *>(y + j);
-        }
-      x_sum = lanes_sum(x_lanes);
-      y_sum = lanes_sum(y_lanes);
-      for (std::size_t j = whole; j < n; ++j)
-        {
-          x_sum += values[j] * x[j];
-          y_sum += values[j] * y[j];
-        }
-    }
-
-    /// Two rows against one vector, in single precision.
-    __attribute__((target_clones("avx2", "default"))) void
-    rows_dot_single(const float *first, const float *second, const float *x, std::size_t n, float &first_sum,
-                    float &second_sum)
+    /// Σ_j a[j] b[j] and Σ_j c[j] d[j] over n values, in single precision
+    /// (one row against two vectors, or two rows against one).
+    __attribute__((target_clones("avx2", "default"))) void two_dots_single(const float *a, const float *b,
+                                                                           const float *c, const float *d,
+                                                                           std::size_t n, float &first, float &second)
     {
       Float8            first_lanes = {}, second_lanes = {};
       const std::size_t whole = n - n % 8;
       for (std::size_t j = 0; j < whole; j += 8)
         {
-          const Float8 along = *reinterpret_cast<const Float8 *>(x + j);
-          first_lanes += *reinterpret_cast<const Float8 *>(first + j) * along;
-          second_lanes += *reinterpret_cast<const Float8 *>(second + j) * along;
+          first_lanes += *reinterpret_cast<const Float8 *>(a + j) * *reinterpret_cast<const Float8 *>(b + j);
+          second_lanes += *reinterpret_cast<const Float8 *>(c + j) * *reinterpret_cast<const Float8 *>(d + j);
         }
-      first_sum  = lanes_sum(first_lanes);
-      second_sum = lanes_sum(second_lanes);
+      first  = lanes_sum(first_lanes);
+      second = lanes_sum(second_lanes);
       for (std::size_t j = whole; j < n; ++j)
         {
-          first_sum += first[j] * x[j];
-          second_sum += second[j] * x[j];
+          first += a[j] * b[j];
+          second += c[j] * d[j];
         }
     }
 
@@ -701,7 +680,7 @@ namespace fretsim::coupling
         if (loaded[c])
           {
             float by_position = 0.0f, by_velocity = 0.0f;
-            row_dot2_single(row(c, 0), position.data(), velocity.data(), n, by_position, by_velocity);
+            two_dots_single(row(c, 0), position.data(), row(c, 0), velocity.data(), n, by_position, by_velocity);
             approach_change[c] = local ? by_position + damping_time * by_velocity
                                        : by_position + damping_time * (1.0 - band_share[c]) * by_velocity;
           }
@@ -728,7 +707,7 @@ namespace fretsim::coupling
             if (!slip_stiffness[c].isZero(0.0))
               {
                 float along_t = 0.0f, along_z = 0.0f;
-                rows_dot_single(cell_rows[1], cell_rows[2], position.data(), n, along_t, along_z);
+                two_dots_single(cell_rows[1], position.data(), cell_rows[2], position.data(), n, along_t, along_z);
                 traction.tail<2>() -= slip_stiffness[c] * Eigen::Vector2d(along_t, along_z);
               }
             const float weights[3] = {static_cast<float>(cell_area * traction[0]),

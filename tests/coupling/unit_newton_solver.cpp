@@ -60,6 +60,24 @@ namespace
     return state;
   }
 
+  /// A random ring's model with a mass and a stiffness coupling its
+  /// coordinates, and the generator that made them (for the right-hand sides).
+  struct System
+  {
+    ReducedRing                            ring = synthetic::random_ring(n, 8, 1, 9);
+    std::mt19937                           generator{4};
+    std::uniform_real_distribution<double> uniform{-1.0, 1.0};
+    Eigen::MatrixXd                        mass, stiffness;
+    System()
+    {
+      Eigen::MatrixXd coupling(n, n);
+      for (double &value : coupling.reshaped())
+        value = uniform(generator);
+      mass      = 0.2 * Eigen::MatrixXd::Identity(n, n) + 0.01 * coupling * coupling.transpose();
+      stiffness = Eigen::Map<const RowMatrix>(ring.stiffness.data(), n, n) + 2e7 * coupling * coupling.transpose();
+    }
+  };
+
   /// J = [[0, I], [M⁻¹(∂F/∂q - K), M⁻¹ ∂F/∂q̇]].
   Eigen::MatrixXd jacobian(const Eigen::MatrixXd &mass, const Eigen::MatrixXd &stiffness, const BallState &balls)
   {
@@ -99,15 +117,11 @@ TEST(NewtonSolver, KeepsTheBallsShareOfNewtonsMatrixAtTheIterate)
   // unloaded at the set-up carries load: the solve must be that of
   // I - γJ with J at the new state (measured 3e-16; bound 1e-10), and
   // differ from the set-up's own by more than 1 % (measured 7.6 %).
-  auto            ring = synthetic::random_ring(n, 8, 1, 9);
-  std::mt19937    generator(4);
-  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-  Eigen::MatrixXd coupling(n, n);
-  for (double &value : coupling.reshaped())
-    value = uniform(generator);
-  const Eigen::MatrixXd mass = 0.2 * Eigen::MatrixXd::Identity(n, n) + 0.01 * coupling * coupling.transpose();
-  const Eigen::MatrixXd stiffness =
-    Eigen::Map<const RowMatrix>(ring.stiffness.data(), n, n) + 2e7 * coupling * coupling.transpose();
+  System                 system;
+  auto                  &ring      = system.ring;
+  auto                  &generator = system.generator;
+  auto                  &uniform   = system.uniform;
+  const Eigen::MatrixXd &mass = system.mass, &stiffness = system.stiffness;
   const Eigen::LLT<Eigen::MatrixXd> factor(mass);
 
   BallContacts balls(ring, 9, 7e9, 0.5, 10e-6);
@@ -160,15 +174,11 @@ TEST(NewtonSolver, GmresSolvesNewtonsSystemWithTheJacobianAtTheIterate)
   // give the dense solve at the second (at a tolerance of 1e-12 within 2n
   // iterations, the whole Krylov space; measured 9e-16 in 8), and stop
   // early at a loose one with an error to match (1e-2: 2 iterations, 4e-4).
-  auto            ring = synthetic::random_ring(n, 8, 1, 9);
-  std::mt19937    generator(4);
-  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-  Eigen::MatrixXd coupling(n, n);
-  for (double &value : coupling.reshaped())
-    value = uniform(generator);
-  const Eigen::MatrixXd mass = 0.2 * Eigen::MatrixXd::Identity(n, n) + 0.01 * coupling * coupling.transpose();
-  const Eigen::MatrixXd stiffness =
-    Eigen::Map<const RowMatrix>(ring.stiffness.data(), n, n) + 2e7 * coupling * coupling.transpose();
+  System                 system;
+  auto                  &ring      = system.ring;
+  auto                  &generator = system.generator;
+  auto                  &uniform   = system.uniform;
+  const Eigen::MatrixXd &mass = system.mass, &stiffness = system.stiffness;
   BallContacts    balls(ring, 9, 7e9, 0.5, 10e-6);
   const BallState at_set_up = evaluate(balls, 10e-6, 0.3), now = evaluate(balls, 40e-6, 0.45);
   ASSERT_GT(now.loaded, at_set_up.loaded);

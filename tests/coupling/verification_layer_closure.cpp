@@ -72,6 +72,28 @@ namespace
   }
 
   double largest(const contact::Field &field) { return *std::max_element(field.begin(), field.end()); }
+
+  /// A random ring of 5 coordinates with a residual flexibility (Love's
+  /// coefficients as its table), for the interface's derivatives.
+  ReducedRing closure_ring()
+  {
+    auto ring              = synthetic::random_ring(5, 36, 3, 7);
+    ring.residual_pressure = love_table(ring.interface_grid, 4e11);
+    return ring;
+  }
+
+  /// Its layer: μ = 10 keeps the bristles sticking; δ = 1e-12 m, s = 1e-11 m
+  /// (the random ring carries ~10 kPa).
+  InterfaceSettings closure_settings()
+  {
+    InterfaceSettings settings;
+    settings.normal_stiffness     = 1e15;
+    settings.tangential_stiffness = 2e15;
+    settings.friction_coefficient = 10.0;
+    settings.closure_pressure     = 1e3;
+    settings.radial_interference  = 2e-11;
+    return settings;
+  }
 } // namespace
 
 TEST(LayerClosure, AUniformPenetrationGivesTheScalarLaw)
@@ -282,14 +304,8 @@ TEST(LayerClosure, TheInterfaceJacobianCarriesTheClosuresSensitivity)
   // With the closure p(q) is smooth across the patch's edge, so its
   // Jacobian (coupled and tail cells, normal and bristles) must match
   // central differences there too; μ = 10 keeps the bristles sticking.
-  auto ring = synthetic::random_ring(5, 36, 3, 7);
-  ring.residual_pressure = love_table(ring.interface_grid, 4e11);
-  InterfaceSettings settings;
-  settings.normal_stiffness     = 1e15;
-  settings.tangential_stiffness = 2e15;
-  settings.friction_coefficient = 10.0;
-  settings.closure_pressure     = 1e3;   // δ = 1e-12 m, s = 1e-11 m: the random ring carries ~10 kPa
-  settings.radial_interference  = 2e-11;
+  const auto        ring     = closure_ring();
+  InterfaceSettings settings = closure_settings();
   std::vector<double> q0(5), v(5, 0.0), q;
   for (std::size_t j = 0; j < 5; ++j)
     q0[j] = 1e-10 * std::cos(1.3 * j);
@@ -331,14 +347,8 @@ TEST(LayerClosure, TheInterfaceDerivativeFollowsTheLastEvaluation)
   // Jacobian's own by velocity there (the damping's share, through the same
   // pressure coupling). Its pressure coupling is solved to 1e-2: bound 2e-2
   // of the largest entry (measured 1.7e-4 and 1.3e-3).
-  auto ring = synthetic::random_ring(5, 36, 3, 7);
-  ring.residual_pressure = love_table(ring.interface_grid, 4e11);
-  InterfaceSettings settings;
-  settings.normal_stiffness     = 1e15;
-  settings.tangential_stiffness = 2e15;
-  settings.friction_coefficient = 10.0;
-  settings.closure_pressure     = 1e3;
-  settings.radial_interference  = 2e-11;
+  const auto        ring     = closure_ring();
+  InterfaceSettings settings = closure_settings();
   settings.normal_damping_time  = 1e-5;
   constexpr std::size_t n = 5;
   std::vector<double>   q0(n), v(n, 0.0), q, elsewhere;

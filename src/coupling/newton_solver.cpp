@@ -53,7 +53,7 @@ namespace fretsim::coupling
       N_Vector         weights = nullptr; ///< ARKODE's error weights (krylov)
 
       /// (I - γJ) x = b with J at the iterate, by GMRES (Saad & Schultz,
-      /// right-preconditioned by the set-up matrix, in the error-weighted
+      /// left-preconditioned by the set-up matrix, in the error-weighted
       /// norm), from x = 0.
       void solve_krylov(const Eigen::Map<const Eigen::VectorXd> &rhs, Eigen::Map<Eigen::VectorXd> &solution);
 

@@ -248,8 +248,8 @@ namespace fretsim::coupling
     }
 
     // The same in single precision throughout, for the derivative's
-    // products (InterfaceContact::add_derivative: Newton's linear solve
-    // asks for 1e-3 of them at most): twice the lanes.
+    // products (InterfaceContact::add_derivative, whose pressure coupling
+    // is solved to 1e-2 anyway): twice the lanes.
     using Float8 = float __attribute__((vector_size(32), aligned(4), __may_alias__));
 
     inline float lanes_sum(const Float8 &lanes)

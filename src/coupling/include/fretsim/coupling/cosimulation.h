@@ -95,8 +95,8 @@ namespace fretsim::coupling
     /// interface's pressure coupling solved by conjugate gradients, not
     /// factorised), preconditioned by Newton's matrix as set up. A flexible
     /// housing's conformal contact changes its stiffness within one Newton
-    /// correction, and Newton with the matrix as set up failed in a fifth of
-    /// the steps; no secant updates then (docs/bearing.md).
+    /// correction, and Newton with the matrix as set up failed in an eighth
+    /// to a fifth of the steps; no secant updates then (docs/bearing.md).
     bool newton_krylov = false;
   };
 

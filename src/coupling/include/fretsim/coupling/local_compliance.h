@@ -147,7 +147,6 @@ namespace fretsim::coupling
     bool pressure_sensitivity(const std::vector<std::size_t> &loaded, const double *rhs,
                               std::size_t columns, std::vector<double> &result);
 
-    /// Work done so far, in convolutions (the cost of both calls).
     /// The pressure's change under a change of the approach at `pressure`,
     /// the last solve's: (C + I/k_n + D)_AA Δp = Δb on the cells A carrying
     /// pressure (D the closure's compliance there), zero elsewhere; by the
@@ -157,6 +156,7 @@ namespace fretsim::coupling
     void pressure_change(const contact::Field &pressure, const contact::Field &approach_change,
                          contact::Field &change, double relative_tolerance);
 
+    /// Work done so far, in convolutions (the cost of both calls).
     struct Statistics
     {
       std::size_t solves = 0, solve_convolutions = 0;

@@ -724,7 +724,7 @@ namespace fretsim::coupling
     }
     /// add_derivative's pressure change to this fraction of the largest
     /// approach change (1e-3 took a third more convolutions for as many
-    /// Newton failures on the paper's case, docs/bearing.md).
+    /// Newton failures on the paper's case).
     static constexpr double derivative_tolerance = 1e-2;
 
     /// The loaded cells' factors of the Jacobian (add_jacobian), one row (or

@@ -579,6 +579,36 @@ namespace fretsim::coupling
       throw std::runtime_error(message.str());
     }
 
+    /// Newton iterations and GMRES products so far.
+    struct KrylovCount
+    {
+      long newton_iterations = 0, products = 0;
+    };
+
+    KrylovCount krylov_count(void *arkode, const BearingCosimulation::Impl &d)
+    {
+      KrylovCount count;
+      ARKStepGetNumNonlinSolvIters(arkode, &count.newton_iterations);
+      count.products = d.stats.krylov_iterations;
+      return count;
+    }
+
+    /// With Newton-Krylov: Newton's matrix (GMRES's preconditioner) set up
+    /// afresh at the next step when this one took more than the settings'
+    /// products per Newton iteration, else at the settings' interval.
+    void refresh_when_gmres_slows(void *arkode, BearingCosimulation::Impl &d, const KrylovCount &before)
+    {
+      const KrylovCount after = krylov_count(arkode, d);
+      const double products_per_iteration = static_cast<double>(after.products - before.products) /
+                                            static_cast<double>(std::max(1L, after.newton_iterations -
+                                                                               before.newton_iterations));
+      const bool fresh    = products_per_iteration > d.settings.integrator.krylov_products_for_a_fresh_matrix;
+      const long interval = fresh ? 1 : d.settings.integrator.jacobian_interval;
+      d.stats.krylov_fresh_matrices += fresh;
+      check(ARKStepSetJacEvalFrequency(arkode, interval), "ARKStepSetJacEvalFrequency");
+      check(ARKStepSetLSetupFrequency(arkode, static_cast<int>(interval)), "ARKStepSetLSetupFrequency");
+    }
+
     /// Steps from t to t_out one ARKODE step at a time, each accepted step
     /// followed by the paper's bristle update; falls back to ARKODE's Newton
     /// start for the rest of the interval on a failed step.
@@ -602,7 +632,10 @@ namespace fretsim::coupling
             }
           const auto   start        = Clock::now();
           const double contact_time = d.stats.contact_seconds;
+          const KrylovCount before       = krylov_count(sun.arkode, d);
           const int    flag         = ARKStepEvolve(sun.arkode, t_out, sun.state, &t, ARK_ONE_STEP);
+          if (d.settings.integrator.newton_krylov)
+            refresh_when_gmres_slows(sun.arkode, d, before);
           d.stats.integrator_seconds += seconds_since(start) - (d.stats.contact_seconds - contact_time);
           if ((flag == ARK_ERR_FAILURE || flag == ARK_CONV_FAILURE) && starts.can_fall_back() && !fallen_back)
             {

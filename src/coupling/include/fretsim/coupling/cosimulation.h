@@ -98,6 +98,12 @@ namespace fretsim::coupling
     /// correction, and Newton with the matrix as set up failed in an eighth
     /// to a fifth of the steps; no secant updates then (docs/bearing.md).
     bool newton_krylov = false;
+    /// With it, Newton's matrix is set up afresh at the next step once a step
+    /// took more GMRES products than this per Newton iteration (else every
+    /// jacobian_interval steps): on the paper case's flexible housing 8 gave
+    /// as few failures as any and the shortest run against 4, 6, 12 or a
+    /// fixed interval (docs/bearing.md) [-].
+    double krylov_products_for_a_fresh_matrix = 8.0;
   };
 
   struct CosimulationSettings
@@ -144,8 +150,9 @@ namespace fretsim::coupling
   {
     long   steps = 0, rhs_evaluations = 0, newton_iterations = 0, newton_failures = 0, error_test_failures = 0,
            jacobian_evaluations = 0, linear_setups = 0;
-    /// GMRES iterations (IntegratorSettings::newton_krylov), each a J v.
-    long   krylov_iterations = 0;
+    /// GMRES iterations (IntegratorSettings::newton_krylov), each a J v, and
+    /// the steps after which Newton's matrix was set up afresh for GMRES.
+    long   krylov_iterations = 0, krylov_fresh_matrices = 0;
     double last_step = 0.0, smallest_step = 0.0, largest_step = 0.0; ///< [s]
     /// Output intervals finished with ARKODE's own Newton start (the last
     /// solution, 3 iterations) after the settings' Newton failed a step.

@@ -630,10 +630,10 @@ namespace fretsim::coupling
                   << d.stats.smallest_step << " s";
               throw_integrator_failure(t, why.str(), "");
             }
-          const auto   start        = Clock::now();
-          const double contact_time = d.stats.contact_seconds;
+          const auto        start        = Clock::now();
+          const double      contact_time = d.stats.contact_seconds;
           const KrylovCount before       = krylov_count(sun.arkode, d);
-          const int    flag         = ARKStepEvolve(sun.arkode, t_out, sun.state, &t, ARK_ONE_STEP);
+          const int         flag         = ARKStepEvolve(sun.arkode, t_out, sun.state, &t, ARK_ONE_STEP);
           if (d.settings.integrator.newton_krylov)
             refresh_when_gmres_slows(sun.arkode, d, before);
           d.stats.integrator_seconds += seconds_since(start) - (d.stats.contact_seconds - contact_time);

@@ -266,7 +266,7 @@ namespace fretsim::coupling
       for (std::size_t c = 0; c < cells; ++c)
         {
           on[c]    = p[c] > 0.0;
-          stiff[c] = on[c] && (closure_diagonal.empty() || closure_diagonal[c] <= self);
+          stiff[c] = on[c] && closure_at(c) <= self;
           residual[c] = on[c] ? approach_change[c] : 0.0;
           largest     = std::max(largest, std::abs(residual[c]));
         }

@@ -30,7 +30,7 @@ namespace fretsim::coupling
       /// over the stage's iterations so far, each making H y_i = s_i for the
       /// change y_i of the right-hand side (Newton's residual, negated) along
       /// the correction s_i it followed. Cleared by a set-up and a new stage.
-      void                        *arkode = nullptr; ///< set with secant updates only
+      void                        *arkode = nullptr; ///< set with secant updates or GMRES only
       std::vector<Eigen::VectorXd> secant_corrections, residual_changes;
       Eigen::VectorXd              last_rhs, last_solution;
       double                       stage_time = 0.0, stage_gamma = 0.0;
@@ -51,6 +51,24 @@ namespace fretsim::coupling
       bool             krylov = false;
       JacobianProducts products;
       N_Vector         weights = nullptr; ///< ARKODE's error weights (krylov)
+      static constexpr int most = 40; ///< Krylov vectors (no restart; then the best correction found)
+      Eigen::MatrixXd      basis, hessenberg; // solve_krylov's work arrays, sized once
+
+      /// The stage ARKODE's Newton iteration is at: its time, γ and iterate.
+      struct Stage
+      {
+        double   time = 0.0, gamma = 0.0;
+        N_Vector iterate = nullptr;
+      };
+      Stage stage() const
+      {
+        Stage    now;
+        N_Vector predicted, stage_rhs, stage_data;
+        void    *user;
+        ARKStepGetNonlinearSystemData(arkode, &now.time, &predicted, &now.iterate, &stage_rhs, &now.gamma,
+                                      &stage_data, &user);
+        return now;
+      }
 
       /// (I - γJ) x = b with J at the iterate, by GMRES (Saad & Schultz,
       /// left-preconditioned by the set-up matrix, in the error-weighted
@@ -124,16 +142,12 @@ namespace fretsim::coupling
       /// a stage (another stage time or γ: a new stage, step or attempt).
       void update_secant(const Eigen::VectorXd &rhs)
       {
-        realtype time, stage_gamma_now;
-        N_Vector predicted, iterate, stage_rhs, stage_data;
-        void    *user;
-        ARKStepGetNonlinearSystemData(arkode, &time, &predicted, &iterate, &stage_rhs, &stage_gamma_now, &stage_data,
-                                      &user);
-        if (time != stage_time || stage_gamma_now != stage_gamma || last_rhs.size() != rhs.size())
+        const Stage now = stage();
+        if (now.time != stage_time || now.gamma != stage_gamma || last_rhs.size() != rhs.size())
           {
             clear_secant_updates();
-            stage_time  = time;
-            stage_gamma = stage_gamma_now;
+            stage_time  = now.time;
+            stage_gamma = now.gamma;
             return;
           }
         Eigen::VectorXd change = last_rhs - rhs;
@@ -147,33 +161,29 @@ namespace fretsim::coupling
 
     void EigenLu::solve_krylov(const Eigen::Map<const Eigen::VectorXd> &rhs, Eigen::Map<Eigen::VectorXd> &solution)
     {
-      constexpr int      most = 40; // Krylov vectors (no restart; then the best correction found)
       const Eigen::Index size = rhs.size();
       // The stage's time, iterate, γ and error weights; without ARKODE (a
       // solve on its own) the set-up's γ and unit weights.
-      realtype        time = 0.0, stage_gamma_now = gamma;
-      const double   *y    = nullptr;
-      Eigen::VectorXd w    = Eigen::VectorXd::Ones(size);
+      Stage           now{0.0, gamma, nullptr};
+      Eigen::VectorXd w = Eigen::VectorXd::Ones(size);
       if (arkode != nullptr)
         {
-          N_Vector predicted, iterate, stage_rhs, stage_data;
-          void    *user;
-          ARKStepGetNonlinearSystemData(arkode, &time, &predicted, &iterate, &stage_rhs, &stage_gamma_now,
-                                        &stage_data, &user);
+          now = stage();
           if (weights == nullptr)
-            weights = N_VClone(iterate);
+            weights = N_VClone(now.iterate);
           ARKStepGetErrWeights(arkode, weights);
           w = Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(weights), size);
-          y = N_VGetArrayPointer(iterate);
         }
+      const double *y     = now.iterate ? N_VGetArrayPointer(now.iterate) : nullptr;
       const double  scale = 1.0 / std::sqrt(static_cast<double>(size)); // the RMS norm's
       // Arnoldi on W P⁻¹ A W⁻¹ (left-preconditioned: its residual is the
       // error of the correction in Newton's own norm, as far as P holds A).
-      Eigen::MatrixXd V(size, most + 1), H = Eigen::MatrixXd::Zero(most + 1, most);
+      basis.resize(size, most + 1);
+      hessenberg.setZero(most + 1, most);
+      auto           &V = basis, &H = hessenberg;
       Eigen::VectorXd cosines(most), sines(most), g = Eigen::VectorXd::Zero(most + 1), product(size);
       const Eigen::VectorXd start = solve_set_up(rhs).cwiseProduct(w);
       g(0)                        = start.norm();
-      solution.setZero();
       if (!(g(0) * scale > products.tolerance))
         {
           solution = start.cwiseQuotient(w);
@@ -184,8 +194,8 @@ namespace fretsim::coupling
       while (k < most && std::abs(g(k)) * scale > products.tolerance)
         {
           const Eigen::VectorXd direction = V.col(k).cwiseQuotient(w);
-          products.times(time, y, direction.data(), product.data());
-          Eigen::VectorXd next = solve_set_up(direction - stage_gamma_now * product).cwiseProduct(w);
+          products.times(now.time, y, direction.data(), product.data());
+          Eigen::VectorXd next = solve_set_up(direction - now.gamma * product).cwiseProduct(w);
           for (int i = 0; i <= k; ++i) // modified Gram–Schmidt
             {
               H(i, k) = V.col(i).dot(next);

@@ -265,6 +265,9 @@ TEST(BearingScene, AFlexibleHousingTakesItsShareAndAStiffOneIsTheRigidHousing)
               krylov_failures, summary_number(krylov, "steps"), summary_number(krylov, "krylov_iterations"),
               summary_number(krylov, "krylov_fresh_matrices"));
   EXPECT_LT(krylov_failures, 0.25 * failures);
+  // GMRES ran: more products than Newton iterations (a preconditioner
+  // that were the Jacobian itself would need one or none; measured 11 628
+  // products in 2 913 iterations).
   EXPECT_GT(summary_number(krylov, "krylov_iterations"), summary_number(krylov, "newton_iterations"));
   EXPECT_NEAR(summary_number(krylov, "risk_max"), summary_number(newton, "risk_max"),
               0.01 * summary_number(newton, "risk_max"));

@@ -66,16 +66,19 @@ namespace fretsim::contact
     const double          denominator = 1.0 + k * slip_length / mu_p;
     const Eigen::Vector2d numerator   = start + k * slip;
     Eigen::Matrix2d       by_slip;
-    Eigen::Vector2d       by_pressure = Eigen::Vector2d::Zero();
+    Eigen::Vector2d       by_pressure = Eigen::Vector2d::Zero(), by_stiffness;
     if (numerator.norm() > mu_p * denominator)
       { // the Coulomb clamp: τ' = μp n/|n|
-        const Eigen::Vector2d unit = numerator.normalized();
-        by_slip     = mu_p * k / numerator.norm() * (Eigen::Matrix2d::Identity() - unit * unit.transpose());
-        by_pressure = mu * unit;
+        const Eigen::Vector2d unit      = numerator.normalized();
+        const Eigen::Matrix2d projector = Eigen::Matrix2d::Identity() - unit * unit.transpose();
+        by_slip      = mu_p * k / numerator.norm() * projector;
+        by_pressure  = mu * unit;
+        by_stiffness = mu_p / numerator.norm() * projector * slip;
       }
     else
       {
-        by_slip = (k / denominator) * Eigen::Matrix2d::Identity();
+        by_stiffness = (slip - numerator * (slip_length / (mu_p * denominator))) / denominator;
+        by_slip      = (k / denominator) * Eigen::Matrix2d::Identity();
         // "At ds = 0" is within 1 % of the slip μp/k that saturates a fresh
         // bristle, where the law has moved τ by at most about 1 % of μp. The
         // derivative along τ there is near zero; the spring's k I instead
@@ -92,7 +95,8 @@ namespace fretsim::contact
       {
         derivatives.by_slip[i][0] = by_slip(i, 0);
         derivatives.by_slip[i][1] = by_slip(i, 1);
-        derivatives.by_pressure[i] = by_pressure[i];
+        derivatives.by_pressure[i]  = by_pressure[i];
+        derivatives.by_stiffness[i] = by_stiffness[i];
       }
     return next;
   }

@@ -340,6 +340,8 @@ namespace fretsim::coupling
     /// Above this pressure a cell is in contact [Pa] (LocalCompliance::contact_pressure).
     double contact_pressure() const { return contact_floor; }
     double contact_floor = 0.0;
+    /// p_c where the bristles follow the closure (bristle_stiffness), else 0 [Pa].
+    double fading_pressure = 0.0;
 
     /// Row `component` (0 radial, 1 circumferential, 2 axial) of cell c.
     const float *row(std::size_t c, int component) const
@@ -417,7 +419,11 @@ namespace fretsim::coupling
           // factorisation checks its condition and falls back to double).
           local->set_single_precision_factorisation(true);
           if (settings.local_compliance_modulus == 0.0)
-            local->set_closure_pressure(settings.closure_pressure);
+            {
+              local->set_closure_pressure(settings.closure_pressure);
+              if (settings.bristles_follow_closure)
+                fading_pressure = settings.closure_pressure;
+            }
           contact_floor = local->contact_pressure();
           for (auto *field : {&local_pressure, &local_penetration})
             field->assign(cells, 0.0);
@@ -614,11 +620,30 @@ namespace fretsim::coupling
       Eigen::Matrix2d by_slip     = Eigen::Matrix2d::Zero(); ///< ∂τ/∂(slip)
     };
 
+    /// The bristles' stiffness at pressure p and its derivative ∂k/∂p
+    /// (InterfaceSettings::bristles_follow_closure): under the layer's
+    /// exponential closure the asperities in contact, and with them the
+    /// normal stiffness, fade as k_n (1 − e^(−p/p_c)); an asperity's
+    /// tangential stiffness is proportional to its normal one (Mindlin), so
+    /// the bristles fade alike. Else k_t. (Without it a cell of the closure's
+    /// tail is a stiff spring that lets go within a slip of μp/k_t, a
+    /// fraction of a nanometre: a switch within Newton's correction.)
+    double bristle_stiffness(double p, double &by_pressure) const
+    {
+      by_pressure = 0.0;
+      if (fading_pressure == 0.0)
+        return settings.tangential_stiffness;
+      const double share = std::exp(-std::max(p, 0.0) / fading_pressure);
+      by_pressure        = settings.tangential_stiffness * share / fading_pressure;
+      return settings.tangential_stiffness * (1.0 - share);
+    }
+
     /// The bristle of cell c under pressure p after the slip (ds_x, ds_y)
     /// since the last accepted state.
     BristleStep bristle_traction(std::size_t c, double p, double ds_x, double ds_y, bool jacobian) const
     {
-      const double k_t = settings.tangential_stiffness, mu = settings.friction_coefficient;
+      double       k_by_pressure;
+      const double k_t = bristle_stiffness(p, k_by_pressure), mu = settings.friction_coefficient;
       const double mu_p = mu * p;
       BristleStep  step;
       if (committing || consistent)
@@ -632,7 +657,8 @@ namespace fretsim::coupling
               step.traction = Eigen::Vector2d(next.x, next.y);
               step.by_slip =
                 Eigen::Map<const Eigen::Matrix<double, 2, 2, Eigen::RowMajor>>(&derivatives.by_slip[0][0]);
-              step.by_pressure = Eigen::Map<const Eigen::Vector2d>(derivatives.by_pressure);
+              step.by_pressure = Eigen::Map<const Eigen::Vector2d>(derivatives.by_pressure) +
+                                 k_by_pressure * Eigen::Map<const Eigen::Vector2d>(derivatives.by_stiffness);
             }
           else
             {
@@ -649,19 +675,21 @@ namespace fretsim::coupling
         { // sticking: the bristle is a linear spring within the step, capped
           // at the Coulomb limit (so that very stiff bristles cannot push
           // the in-step traction far beyond what the update will accept)
-          const Eigen::Vector2d trial(tau_x[c] + k_t * ds_x, tau_y[c] + k_t * ds_y);
+          const Eigen::Vector2d slip(ds_x, ds_y), trial = Eigen::Vector2d(tau_x[c], tau_y[c]) + k_t * slip;
           const double          length = trial.norm();
           if (length <= mu_p)
             {
-              step.traction = trial;
-              step.by_slip  = k_t * Eigen::Matrix2d::Identity();
+              step.traction    = trial;
+              step.by_slip     = k_t * Eigen::Matrix2d::Identity();
+              step.by_pressure = k_by_pressure * slip;
             }
           else
             {
-              const Eigen::Vector2d unit = trial / length;
-              step.traction              = mu_p * unit;
-              step.by_slip     = mu_p * k_t / length * (Eigen::Matrix2d::Identity() - unit * unit.transpose());
-              step.by_pressure = mu * unit;
+              const Eigen::Vector2d unit      = trial / length;
+              const Eigen::Matrix2d projector = Eigen::Matrix2d::Identity() - unit * unit.transpose();
+              step.traction                   = mu_p * unit;
+              step.by_slip                    = mu_p * k_t / length * projector;
+              step.by_pressure = mu * unit + k_by_pressure * mu_p / length * projector * slip;
             }
         }
       return step;

@@ -233,44 +233,70 @@ TEST(BearingScene, AFlexibleHousingTakesItsShareAndAStiffOneIsTheRigidHousing)
 
   EXPECT_EQ(ResultsFile::read_string_attribute(steel, "/", "housing"), "flexible");
   EXPECT_EQ(ResultsFile::read_string_attribute(rigid, "/", "housing"), "rigid");
-  // Newton on the flexible housing (two passes), the layer's exponential
-  // closure at its default: measured 70-85 convergence failures in 488-510
-  // steps (the step sequence follows the rounding; with the sharp closure
-  // 176-190 in 632-671 on 1-3 threads, the loaded set jumping within
-  // Newton's iteration; without friction none in 442: docs/bearing.md,
-  // Flexible housing). The bound catches a rise by a fifth.
+  // Newton on the flexible housing (two passes) with the scene's defaults:
+  // the bristles follow the layer's closure, and Newton's systems are solved
+  // with the whole Jacobian at the iterate (GMRES). At most 1 % of the steps
+  // may fail Newton (measured 0 in 440 steps; 2 in 4 855 over four
+  // integrator settings: docs/bearing.md, Flexible housing).
   const std::string newton = read_text(dir / "steel" / "summary.json");
   const double      steps = summary_number(newton, "steps"),
                failures   = summary_number(newton, "newton_convergence_failures");
   std::printf("flexible housing: %.0f steps, %.0f Newton failures\n", steps, failures);
-  EXPECT_LT(failures, 1.2 * 85.0);
-  EXPECT_LT(steps, 1.2 * 510.0);
-  // They come from the bristles: a cell that turns from sticking to sliding
-  // or back between Newton's matrix and the iterate. With that stiffness
-  // kept at the iterate: measured 20 failures in 424 steps; a wrong update
-  // would add failures, not remove three quarters of them.
-  run("steel_bristles", "housing.prm", "--set 'Integrator/Bristles at the iterate=true'");
+  EXPECT_EQ(newton.find("\"bristles_follow_closure\": false"), std::string::npos);
+  EXPECT_LE(failures, 0.01 * steps);
+  // The paper's bristles (k_t at every pressure) and the direct solve:
+  // measured 70-85 failures in 488-510 steps (the step sequence follows the
+  // rounding; without friction none in 442). A cell in the closure's tail
+  // then sticks as a full k_t spring and lets go within a slip of μp/k_t,
+  // a fraction of a nanometre: within one Newton correction. The bound
+  // catches a rise by a fifth; each remedy below is measured against it.
+  run("steel_paper", "housing.prm",
+      "--set 'Interface/Bristles follow the closure=false' --set 'Integrator/Newton-Krylov=false'");
+  const std::string paper          = read_text(dir / "steel_paper" / "summary.json");
+  const double      paper_failures = summary_number(paper, "newton_convergence_failures");
+  std::printf("the paper's bristles, direct solve: %.0f Newton failures in %.0f steps\n", paper_failures,
+              summary_number(paper, "steps"));
+  EXPECT_LT(paper_failures, 1.2 * 85.0);
+  EXPECT_GT(paper_failures, 10.0 * std::max(failures, 1.0));
+  // The fading bristles alone (direct solve): measured 2 failures in 442
+  // steps; D_max within 0.1 % of the paper's bristles' (0.09234 against
+  // 0.09241: the faded cells carry little shear). Bound: a tenth of the
+  // paper's failures, D_max within 1 %.
+  run("steel_follow", "housing.prm", "--set 'Integrator/Newton-Krylov=false'");
+  const std::string follow = read_text(dir / "steel_follow" / "summary.json");
+  std::printf("fading bristles, direct solve: %.0f Newton failures in %.0f steps\n",
+              summary_number(follow, "newton_convergence_failures"), summary_number(follow, "steps"));
+  EXPECT_LT(summary_number(follow, "newton_convergence_failures"), 0.1 * paper_failures);
+  EXPECT_NEAR(summary_number(follow, "risk_max"), summary_number(paper, "risk_max"),
+              0.01 * summary_number(paper, "risk_max"));
+  // The paper's bristles with their stiffness at the iterate for the cells
+  // that turned from sticking to sliding or back: measured 20 failures in
+  // 424 steps; a wrong update would add failures, not remove three quarters.
+  run("steel_bristles", "housing.prm",
+      "--set 'Interface/Bristles follow the closure=false' --set 'Integrator/Newton-Krylov=false' "
+      "--set 'Integrator/Bristles at the iterate=true'");
   const double bristle_failures =
     summary_number(read_text(dir / "steel_bristles" / "summary.json"), "newton_convergence_failures");
-  std::printf("with the bristles at the iterate: %.0f Newton failures\n", bristle_failures);
-  EXPECT_LT(bristle_failures, 0.5 * failures);
-  // With the whole Jacobian at the iterate (GMRES on the last evaluation's
-  // derivatives): measured 13 failures in 408 steps (11 628 GMRES products,
-  // Newton's matrix set up afresh once for them); the risk the same to the
-  // integrator's tolerance (D_max 0.09236 against 0.09241).
-  run("steel_krylov", "housing.prm", "--set 'Integrator/Newton-Krylov=true'");
-  const std::string krylov         = read_text(dir / "steel_krylov" / "summary.json");
+  std::printf("the paper's bristles at the iterate: %.0f Newton failures\n", bristle_failures);
+  EXPECT_LT(bristle_failures, 0.5 * paper_failures);
+  // The paper's bristles with the whole Jacobian at the iterate: measured 13
+  // failures in 408 steps (11 628 GMRES products, Newton's matrix set up
+  // afresh once for them); the risk the same to the integrator's tolerance
+  // (D_max 0.09236 against 0.09241).
+  run("steel_krylov", "housing.prm", "--set 'Interface/Bristles follow the closure=false'");
+  const std::string krylov          = read_text(dir / "steel_krylov" / "summary.json");
   const double      krylov_failures = summary_number(krylov, "newton_convergence_failures");
-  std::printf("Newton-Krylov: %.0f Newton failures in %.0f steps, %.0f GMRES iterations, %.0f fresh matrices\n",
+  std::printf("the paper's bristles, Newton-Krylov: %.0f Newton failures in %.0f steps, %.0f GMRES iterations, "
+              "%.0f fresh matrices\n",
               krylov_failures, summary_number(krylov, "steps"), summary_number(krylov, "krylov_iterations"),
               summary_number(krylov, "krylov_fresh_matrices"));
-  EXPECT_LT(krylov_failures, 0.25 * failures);
+  EXPECT_LT(krylov_failures, 0.25 * paper_failures);
   // GMRES ran: more products than Newton iterations (a preconditioner
   // that were the Jacobian itself would need one or none; measured 11 628
   // products in 2 913 iterations).
   EXPECT_GT(summary_number(krylov, "krylov_iterations"), summary_number(krylov, "newton_iterations"));
-  EXPECT_NEAR(summary_number(krylov, "risk_max"), summary_number(newton, "risk_max"),
-              0.01 * summary_number(newton, "risk_max"));
+  EXPECT_NEAR(summary_number(krylov, "risk_max"), summary_number(paper, "risk_max"),
+              0.01 * summary_number(paper, "risk_max"));
   std::vector<std::size_t> dims;
   ResultsFile::read_dataset(steel, "/fields/modal_coordinates", &dims);
   ASSERT_EQ(dims.size(), 2u);
@@ -307,7 +333,7 @@ TEST(BearingScene, AFlexibleHousingTakesItsShareAndAStiffOneIsTheRigidHousing)
   const double peak_rigid = *std::max_element(loads_rigid.begin(), loads_rigid.end()),
                peak_steel = *std::max_element(loads_steel.begin(), loads_steel.end());
   std::printf("peak ball load: rigid housing %.1f N, steel housing %.1f N\n", peak_rigid, peak_steel);
-  // Measured 3.8 % less (4 820 against 5 010 N): the housing gives a few micrometres (k_h ~ E' / wall ≈ 1e13 Pa/m over the loaded
+  // Measured 4.5 % less (4 753 against 4 977 N): the housing gives a few micrometres (k_h ~ E' / wall ≈ 1e13 Pa/m over the loaded
   // area) against the balls' ~30 µm Hertz deflection, so a few per cent, not tens.
   EXPECT_LT(peak_steel, 0.995 * peak_rigid);
   EXPECT_GT(peak_steel, 0.9 * peak_rigid);

@@ -1,6 +1,7 @@
 // The bristle law's derivatives (contact::bristle_step with
-// BristleStepDerivatives) against central finite differences of the law, in
-// each of its regimes: sticking, slipping, clamped to the Coulomb limit.
+// BristleStepDerivatives: by the slip, the pressure and the stiffness)
+// against central finite differences of the law, in each of its regimes:
+// sticking, slipping, clamped to the Coulomb limit.
 #include <fretsim/contact/bristle.h>
 
 #include <gtest/gtest.h>
@@ -20,13 +21,14 @@ namespace
     double tau_x, tau_y, pressure, slip_x, slip_y;
   };
 
-  /// max |analytic - central difference| / max |analytic| over ∂τ'/∂ds and ∂τ'/∂p.
+  /// max |analytic - central difference| / max |analytic| over ∂τ'/∂ds,
+  /// ∂τ'/∂p and ∂τ'/∂k.
   double derivative_error(const State &s)
   {
     BristleStepDerivatives analytic;
     bristle_step(s.tau_x, s.tau_y, stiffness, mu, s.pressure, s.slip_x, s.slip_y, false, analytic);
-    const auto law = [&](double pressure, double slip_x, double slip_y) {
-      return bristle_step(s.tau_x, s.tau_y, stiffness, mu * pressure, slip_x, slip_y);
+    const auto law = [&](double pressure, double slip_x, double slip_y, double k = stiffness) {
+      return bristle_step(s.tau_x, s.tau_y, k, mu * pressure, slip_x, slip_y);
     };
     // Steps ~1e-6 of the slip and the pressure: the law is smooth in each regime.
     const double h_slip = 1e-6 * std::hypot(s.slip_x, s.slip_y), h_pressure = 1e-6 * s.pressure;
@@ -45,16 +47,21 @@ namespace
     compare(analytic.by_slip[1][1], (plus_y.y - minus_y.y) / (2.0 * h_slip));
     const BristleStep plus_p = law(s.pressure + h_pressure, s.slip_x, s.slip_y),
                       minus_p = law(s.pressure - h_pressure, s.slip_x, s.slip_y);
-    double pressure_difference = 0.0, pressure_scale = 0.0;
-    for (const auto &[exact, numeric] : {std::pair{analytic.by_pressure[0], (plus_p.x - minus_p.x) / (2.0 * h_pressure)},
-                                         std::pair{analytic.by_pressure[1], (plus_p.y - minus_p.y) / (2.0 * h_pressure)}})
-      {
-        pressure_difference = std::max(pressure_difference, std::abs(exact - numeric));
-        pressure_scale      = std::max(pressure_scale, std::abs(exact));
-      }
+    const double h_stiffness = 1e-6 * stiffness;
+    const BristleStep plus_k = law(s.pressure, s.slip_x, s.slip_y, stiffness + h_stiffness),
+                      minus_k = law(s.pressure, s.slip_x, s.slip_y, stiffness - h_stiffness);
+    // Each pair's error relative to its own scale.
+    const auto pair_error = [](double exact_x, double numeric_x, double exact_y, double numeric_y) {
+      const double pair_difference = std::max(std::abs(exact_x - numeric_x), std::abs(exact_y - numeric_y)),
+                   pair_scale      = std::max(std::abs(exact_x), std::abs(exact_y));
+      return pair_scale > 0.0 ? pair_difference / pair_scale : pair_difference;
+    };
     const double slip_error     = scale > 0.0 ? difference / scale : difference;
-    const double pressure_error = pressure_scale > 0.0 ? pressure_difference / pressure_scale : pressure_difference;
-    return std::max(slip_error, pressure_error);
+    const double pressure_error = pair_error(analytic.by_pressure[0], (plus_p.x - minus_p.x) / (2.0 * h_pressure),
+                                             analytic.by_pressure[1], (plus_p.y - minus_p.y) / (2.0 * h_pressure));
+    const double stiffness_error = pair_error(analytic.by_stiffness[0], (plus_k.x - minus_k.x) / (2.0 * h_stiffness),
+                                              analytic.by_stiffness[1], (plus_k.y - minus_k.y) / (2.0 * h_stiffness));
+    return std::max({slip_error, pressure_error, stiffness_error});
   }
 
   // Central differences with a 1e-6 relative step: truncation ~1e-12, rounding
@@ -62,19 +69,19 @@ namespace
   const double tolerance = 1e-6;
 } // namespace
 
-TEST(BristleDerivatives, SlipAndPressureDerivativesMatchFiniteDifferencesWhileSticking)
+TEST(BristleDerivatives, SlipPressureAndStiffnessDerivativesMatchFiniteDifferencesWhileSticking)
 {
   // k |ds| well below μp: the law is close to the spring τ + k ds.
   EXPECT_LT(derivative_error({2e6, -1e6, 1e8, 1e-9, 5e-10}), tolerance);
 }
 
-TEST(BristleDerivatives, SlipAndPressureDerivativesMatchFiniteDifferencesWhileSlipping)
+TEST(BristleDerivatives, SlipPressureAndStiffnessDerivativesMatchFiniteDifferencesWhileSlipping)
 {
   // k |ds| of the order of μp: the denominator 1 + k |ds| / (μp) matters.
   EXPECT_LT(derivative_error({5e6, 3e6, 1e8, 3e-7, -2e-7}), tolerance);
 }
 
-TEST(BristleDerivatives, SlipAndPressureDerivativesMatchFiniteDifferencesOnTheCoulombClamp)
+TEST(BristleDerivatives, SlipPressureAndStiffnessDerivativesMatchFiniteDifferencesOnTheCoulombClamp)
 {
   // The stored traction exceeds the new limit (the pressure dropped): τ' = μp n/|n|.
   EXPECT_LT(derivative_error({3e7, 2e7, 1e8, 1e-9, 2e-9}), tolerance);
@@ -91,6 +98,8 @@ TEST(BristleDerivatives, NoLoadNoTractionAndNoDerivative)
       EXPECT_EQ(value, 0.0);
   EXPECT_EQ(derivatives.by_pressure[0], 0.0);
   EXPECT_EQ(derivatives.by_pressure[1], 0.0);
+  EXPECT_EQ(derivatives.by_stiffness[0], 0.0);
+  EXPECT_EQ(derivatives.by_stiffness[1], 0.0);
 }
 
 TEST(BristleDerivatives, SlidingOnAtZeroSlipTakesTheDerivativeAlongTheTraction)

@@ -4,7 +4,8 @@
 // pressure is uniform (one axial row on the closed circumference), against
 // the sharp complementarity as p_c → 0, its sensitivity against central
 // differences of the solve, the interface Jacobian across a patch's edge
-// against central differences of the force, and in extreme settings.
+// against central differences of the force, the bristles' stiffness that
+// follows it, and in extreme settings.
 #include <fretsim/coupling/local_compliance.h>
 #include <fretsim/coupling/ring_coupling.h>
 #include "finite_differences.h"
@@ -402,4 +403,56 @@ TEST(LayerClosure, TheInterfaceDerivativeFollowsTheLastEvaluation)
               position_error, velocity_error / velocity_scale);
   EXPECT_LT(position_error, 2e-2);
   EXPECT_LT(velocity_error, 2e-2 * velocity_scale);
+}
+
+TEST(LayerClosure, TheBristlesStiffnessFollowsTheClosure)
+{
+  // One committed step from rest on the random ring above: each loaded
+  // cell's traction is the implicit Euler law's from zero,
+  // |τ| = k |ds| / (1 + k |ds| / (μ p)), with k = k_t (1 − e^(−p/p_c))
+  // (InterfaceSettings::bristles_follow_closure) or k = k_t (the paper's).
+  // ds the cell's slip from q = 0, from the ring's rows; to round-off.
+  const auto ring = closure_ring();
+  const auto n    = static_cast<std::size_t>(ring.n);
+  std::vector<double> q(n), v(n, 0.0);
+  for (std::size_t j = 0; j < n; ++j)
+    q[j] = 1e-10 * std::cos(1.3 * j) + 0.02e-9 * std::cos(3.0 * j);
+  for (const bool follow : {true, false})
+    {
+      InterfaceSettings settings       = closure_settings();
+      settings.bristles_follow_closure = follow;
+      InterfaceContact contact(ring, settings);
+      contact.accept(q.data(), v.data());
+      const contact::Field &p = contact.pressure();
+      double      error = 0.0, faded = 1.0;
+      std::size_t sheared = 0, in_tail = 0;
+      for (std::size_t c = 0; c < p.size(); ++c)
+        {
+          const double traction = std::hypot(contact.shear_x()[c], contact.shear_y()[c]);
+          if (traction == 0.0)
+            continue; // open, or below the tail's shear floor
+          double slip[2] = {0.0, 0.0};
+          for (int component = 1; component <= 2; ++component)
+            for (std::size_t j = 0; j < n; ++j)
+              slip[component - 1] += ring.interface_displacement[(3 * c + component) * n + j] * q[j];
+          const double share = follow ? -std::expm1(-p[c] / settings.closure_pressure) : 1.0,
+                       k = settings.tangential_stiffness * share, slip_length = std::hypot(slip[0], slip[1]),
+                       mu_p = settings.friction_coefficient * p[c];
+          const double expected = k * slip_length / (1.0 + k * slip_length / mu_p);
+          error = std::max(error, std::abs(traction - expected) / expected);
+          ++sheared;
+          if (p[c] < settings.closure_pressure)
+            {
+              ++in_tail;
+              faded = std::min(faded, share);
+            }
+        }
+      std::printf("bristles %s: %zu sheared cells (%zu below p_c, stiffness down to %.3g k_t), law error %.3g\n",
+                  follow ? "following the closure" : "at k_t", sheared, in_tail, faded, error);
+      ASSERT_GT(sheared, 20u); // measured 25, 5 of them below p_c
+      ASSERT_GT(in_tail, 2u);
+      EXPECT_LT(error, 1e-9); // measured 3e-16
+      if (follow)
+        EXPECT_LT(faded, 0.5); // the tail's cells are softened, not only the deep ones tested
+    }
 }

@@ -16,11 +16,13 @@ namespace fretsim::contact
   BristleStep bristle_step(double tau_x, double tau_y, double stiffness, double mu_p, double slip_x, double slip_y);
 
   /// bristle_step's derivatives at one cell, for a solver that couples the law
-  /// to the bodies' motion: ∂τ'/∂ds (not symmetric) and ∂τ'/∂p.
+  /// to the bodies' motion: ∂τ'/∂ds (not symmetric), ∂τ'/∂p and ∂τ'/∂k (for
+  /// a stiffness that depends on the pressure).
   struct BristleStepDerivatives
   {
-    double by_slip[2][2]  = {{0.0, 0.0}, {0.0, 0.0}}; ///< ∂τ'_i/∂ds_j [Pa/m]
-    double by_pressure[2] = {0.0, 0.0};               ///< ∂τ'_i/∂p [-]
+    double by_slip[2][2]   = {{0.0, 0.0}, {0.0, 0.0}}; ///< ∂τ'_i/∂ds_j [Pa/m]
+    double by_pressure[2]  = {0.0, 0.0};               ///< ∂τ'_i/∂p [-]
+    double by_stiffness[2] = {0.0, 0.0};               ///< ∂τ'_i/∂k [m]
   };
 
   /// bristle_step with the limit μ p from `friction_coefficient` and

@@ -180,6 +180,11 @@ namespace fretsim::coupling
     /// closes exponentially on this pressure scale
     /// (LocalCompliance::set_closure_pressure); 0: sharply.
     double closure_pressure = 0.0;
+    /// With the closure: the bristles' stiffness follows the layer's normal
+    /// stiffness, k_t (1 − e^(−p/p_c)), as an asperity's tangential
+    /// stiffness follows its normal one (Mindlin); false: k_t at every
+    /// pressure.
+    bool bristles_follow_closure = true;
     /// λ_c [m] of the residual flexibility's half-space completion
     /// (ReducedRing::residual_half_space_modulus; HalfSpaceCompletion):
     /// in full below it, fading out up to 2 λ_c.

@@ -189,9 +189,9 @@ namespace fretsim::scenes
                         "With the closure (a flexible housing): the bristles' stiffness follows the layer's normal "
                         "stiffness, k_t (1 - exp(-p/p_c)), as an asperity's tangential stiffness follows its normal "
                         "one (Mindlin). A cell in the closure's tail then no longer sticks as a full k_t spring that "
-                        "lets go within a fraction of a nanometre of slip: on the suite's small ring no Newton "
-                        "failures instead of 3 %, D_max within 0.2 % (docs/bearing.md). false: k_t at every "
-                        "pressure, the paper's bristle [-].",
+                        "lets go within a fraction of a nanometre of slip: on the suite's small ring 2 Newton "
+                        "failures in 442 steps instead of 84 in 501 (direct solve), D_max within 0.2 % "
+                        "(docs/bearing.md). false: k_t at every pressure, the paper's bristle [-].",
                         "true|false"),
         Spec::selection("Interface/In-step bristle law", "implicit Euler",
                         "What the integrator sees of the bristles within a step; after every step the paper's "

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <sstream>
 
 using namespace fretsim;
@@ -16,8 +17,7 @@ namespace
   /// 64 x 64 cells, 40 steps per cycle, 2 cycles, one depth layer; the exact
   /// solver at its default tolerance 1e-8, at which the figures below were
   /// measured (the shipped file's 1e-6 shortens the incremental solves
-  /// relatively more: traction speed-ups 1.5-2.6x against 1.6-3.6x at 1e-8,
-  /// three runs each on the loaded machine).
+  /// relatively more).
   std::string scene_text(const std::string &model)
   {
     return test_files::edited_paper_scene({{"Cells x", "64"}, {"Cells y", "64"}, {"Cycles", "2"},
@@ -73,15 +73,30 @@ TEST(TractionModels, CompareTractionReportsEveryModelAgainstExact)
   EXPECT_EQ(rows["exact"][9], 0.0);
   // The superposition against the incremental solver it replaces: D_max
   // within 1 % (measured 3.5e-4), loop within 1e-3 mu P (measured 2.9e-4),
-  // at a fraction of its traction time (1.9x faster with 10 virgin levels for
-  // 80 steps here; the longer the history, the larger the gain).
+  // for a fraction of its work: conjugate gradient iterations per step
+  // (measured 6.2 against 49.5 with 10 virgin levels for 80 steps here; the
+  // longer the history, the larger the gain). Work, not seconds: the
+  // traction stages' times (the CSV's speed-ups, reported here but not
+  // bounded) follow the machine's load; bench/bench_partial_slip.cpp times
+  // them (BM_ShiftStep against BM_BristleStep).
   EXPECT_LT(std::abs(rows["exact masing"][10]), 0.01);
   EXPECT_LT(rows["exact masing"][4], 1e-3);
-  EXPECT_GT(rows["exact masing"][3], 1.5);
-  // The paper's claim, for the traction stage: the local bristle models are
-  // orders of magnitude faster than the exact solver (measured ~400-900x).
-  EXPECT_GT(rows["bristle"][3], 30.0);
-  EXPECT_GT(rows["elastoplastic bristle"][3], 30.0);
+  const auto iterations = [&output](const std::string &folder) {
+    return summary_number(test_files::read_text(output / folder / "summary.json"), "traction_iterations_per_step");
+  };
+  const double exact_iterations = iterations("exact");
+  EXPECT_GT(exact_iterations, 10.0);
+  EXPECT_LT(iterations("exact_masing"), 0.5 * exact_iterations);
+  for (const auto &model : {"bristle", "elastoplastic bristle", "exact masing"})
+    for (const int column : {1, 3}) // the speed-ups: reported, finite and positive
+      EXPECT_TRUE(std::isfinite(rows[model][column]) && rows[model][column] > 0.0) << model << ", column " << column;
+  // The paper's claim, for the traction stage: the local bristle models
+  // update each cell in closed form, no iterations (the exact solver's
+  // iterations each cost two FFT convolutions: measured 400-900x their time).
+  for (const auto &folder : {"bristle", "elastoplastic_bristle"})
+    EXPECT_EQ(test_files::read_text(output / folder / "summary.json").find("traction_iterations_per_step"),
+              std::string::npos)
+      << folder;
   // The exponential bristle's loop is the farther from exact (8.5 % vs 2.3 %
   // of mu P on the paper case) and dissipates several times more (docs/concentrated.md).
   EXPECT_GT(rows["bristle"][4], rows["elastoplastic bristle"][4]);

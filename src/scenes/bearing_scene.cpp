@@ -998,15 +998,16 @@ namespace fretsim::scenes
     {
       summary.set("local_compliance", s.local_compliance);
       summary.set("in_step_bristle_law", s.in_step_bristle_law);
+      const auto *local = simulation.local_compliance(); // the closure is the local compliance's
       summary.set("bristles_follow_closure",
-                  s.run.interface.closure_pressure > 0.0 && s.run.interface.bristles_follow_closure);
+                  s.run.interface.bristles_follow_closure && local && local->contact_pressure() > 0.0);
       summary.set("local_compliance_modulus_Pa", s.run.interface.local_compliance_modulus);
       summary.set("housing_uniform_compliance_m_per_Pa", s.run.interface.housing_uniform_compliance);
       summary.set("ring_residual_flexibility", s.ring_residual);
       summary.set("housing_residual_flexibility", s.housing_model && s.housing_residual);
       summary.set("residual_flexibility_at_balls", s.run.pressure_residual_at_balls && !ring.residual_ball.empty());
       summary.set("half_space_completion", ring.residual_half_space_modulus > 0.0);
-      if (const auto *local = simulation.local_compliance(); local && !local->completion_by_wavenumber().empty())
+      if (local && !local->completion_by_wavenumber().empty())
         { // where the residual flexibilities' FE meshes lose their bodies' local compliance
           const auto     &added = local->completion_by_wavenumber();
           output::Summary completion;

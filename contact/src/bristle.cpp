@@ -66,7 +66,7 @@ namespace fretsim::contact
     const double          denominator = 1.0 + k * slip_length / mu_p;
     const Eigen::Vector2d numerator   = start + k * slip;
     Eigen::Matrix2d       by_slip;
-    Eigen::Vector2d       by_pressure = Eigen::Vector2d::Zero(), by_stiffness;
+    Eigen::Vector2d       by_pressure = Eigen::Vector2d::Zero(), by_stiffness = Eigen::Vector2d::Zero();
     if (numerator.norm() > mu_p * denominator)
       { // the Coulomb clamp: τ' = μp n/|n|
         const Eigen::Vector2d unit      = numerator.normalized();

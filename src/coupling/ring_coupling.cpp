@@ -319,8 +319,9 @@ namespace fretsim::coupling
     std::vector<float> rows;
     // Per-cell derivatives of the last Jacobian evaluation: the traction
     // (t_r = -p, τ_θ, τ_z) by the penetration, and the bristle's stiffness
-    // against the tangential slip (symmetric: k_t I when sticking, the
-    // tangent of the Coulomb cap, or zero when sliding).
+    // against the tangential slip (symmetric: k I when sticking, k the
+    // bristles' stiffness at the cell's pressure, the tangent of the Coulomb
+    // cap, or zero when sliding).
     std::vector<Eigen::Vector3d> by_penetration;
     std::vector<Eigen::Matrix2d> slip_stiffness;
     /// The bristles' stiffness at every cell at the last evaluation and at
@@ -633,9 +634,9 @@ namespace fretsim::coupling
       by_pressure = 0.0;
       if (fading_pressure == 0.0)
         return settings.tangential_stiffness;
-      const double share = std::exp(-std::max(p, 0.0) / fading_pressure);
-      by_pressure        = settings.tangential_stiffness * share / fading_pressure;
-      return settings.tangential_stiffness * (1.0 - share);
+      const double disengaged = std::exp(-std::max(p, 0.0) / fading_pressure); // e^(−p/p_c) of k_t
+      by_pressure             = settings.tangential_stiffness * disengaged / fading_pressure;
+      return settings.tangential_stiffness * (1.0 - disengaged);
     }
 
     /// The bristle of cell c under pressure p after the slip (ds_x, ds_y)
@@ -643,7 +644,7 @@ namespace fretsim::coupling
     BristleStep bristle_traction(std::size_t c, double p, double ds_x, double ds_y, bool jacobian) const
     {
       double       k_by_pressure;
-      const double k_t = bristle_stiffness(p, k_by_pressure), mu = settings.friction_coefficient;
+      const double k = bristle_stiffness(p, k_by_pressure), mu = settings.friction_coefficient;
       const double mu_p = mu * p;
       BristleStep  step;
       if (committing || consistent)
@@ -652,7 +653,7 @@ namespace fretsim::coupling
           if (jacobian)
             {
               contact::BristleStepDerivatives derivatives;
-              const auto next = contact::bristle_step(tau_x[c], tau_y[c], k_t, mu, p, ds_x, ds_y, slipping[c] != 0,
+              const auto next = contact::bristle_step(tau_x[c], tau_y[c], k, mu, p, ds_x, ds_y, slipping[c] != 0,
                                                       derivatives);
               step.traction = Eigen::Vector2d(next.x, next.y);
               step.by_slip =
@@ -662,7 +663,7 @@ namespace fretsim::coupling
             }
           else
             {
-              const auto next = contact::bristle_step(tau_x[c], tau_y[c], k_t, mu_p, ds_x, ds_y);
+              const auto next = contact::bristle_step(tau_x[c], tau_y[c], k, mu_p, ds_x, ds_y);
               step.traction   = Eigen::Vector2d(next.x, next.y);
             }
         }
@@ -675,12 +676,12 @@ namespace fretsim::coupling
         { // sticking: the bristle is a linear spring within the step, capped
           // at the Coulomb limit (so that very stiff bristles cannot push
           // the in-step traction far beyond what the update will accept)
-          const Eigen::Vector2d slip(ds_x, ds_y), trial = Eigen::Vector2d(tau_x[c], tau_y[c]) + k_t * slip;
+          const Eigen::Vector2d slip(ds_x, ds_y), trial = Eigen::Vector2d(tau_x[c], tau_y[c]) + k * slip;
           const double          length = trial.norm();
           if (length <= mu_p)
             {
               step.traction    = trial;
-              step.by_slip     = k_t * Eigen::Matrix2d::Identity();
+              step.by_slip     = k * Eigen::Matrix2d::Identity();
               step.by_pressure = k_by_pressure * slip;
             }
           else
@@ -688,7 +689,7 @@ namespace fretsim::coupling
               const Eigen::Vector2d unit      = trial / length;
               const Eigen::Matrix2d projector = Eigen::Matrix2d::Identity() - unit * unit.transpose();
               step.traction                   = mu_p * unit;
-              step.by_slip                    = mu_p * k_t / length * projector;
+              step.by_slip                    = mu_p * k / length * projector;
               step.by_pressure = mu * unit + k_by_pressure * mu_p / length * projector * slip;
             }
         }
@@ -961,8 +962,9 @@ namespace fretsim::coupling
     changes.clear();
     if (!d.track_slip)
       return;
-    // A change of a quarter of the bristle's own stiffness: a cell that
-    // turned from sticking (k_t) to sliding (the cap's tangent) or back.
+    // A change of a quarter of the bristles' full stiffness k_t: a cell that
+    // turned from sticking (k, k_t but where the bristles follow the
+    // closure) to sliding (the cap's tangent) or back.
     const double                                  least = 0.25 * d.settings.tangential_stiffness;
     std::vector<std::pair<double, std::size_t>> changed;
     for (std::size_t c = 0; c < d.cells; ++c)

@@ -183,15 +183,16 @@ namespace fretsim::scenes
                            "exp((d - s)/delta)), delta = p_c/k_n, s = 10 delta: the linear layer k_n (d - s) once p >> "
                            "p_c, an exponential tail below. The two bodies' conformal contact then has no edge where "
                            "Newton's iterations jump between loaded sets (D_max within 0.2 % of the sharp closure's on "
-                           "the paper case, a fourteenth of its Newton failures: docs/bearing.md). 0: sharp. The rigid "
+                           "the paper case; with the direct solve a fourteenth of its Newton failures: "
+                           "docs/bearing.md). 0: sharp. The rigid "
                            "housing's contact closes sharply [Pa]."),
         Spec::selection("Interface/Bristles follow the closure", "true",
                         "With the closure (a flexible housing): the bristles' stiffness follows the layer's normal "
                         "stiffness, k_t (1 - exp(-p/p_c)), as an asperity's tangential stiffness follows its normal "
-                        "one (Mindlin). A cell in the closure's tail then no longer sticks as a full k_t spring that "
-                        "lets go within a fraction of a nanometre of slip: on the suite's small ring 2 Newton "
-                        "failures in 442 steps instead of 84 in 501 (direct solve), D_max within 0.2 % "
-                        "(docs/bearing.md). false: k_t at every pressure, the paper's bristle [-].",
+                        "one (Mindlin). A cell in the closure's tail does not stick as a full k_t spring that lets go "
+                        "within a fraction of a nanometre of slip: on the suite's small ring 2 Newton failures in "
+                        "442 steps instead of 84 in 501 (direct solve), D_max within 0.1 %; on the paper case "
+                        "-0.13 % (docs/bearing.md). false: k_t at every pressure, the paper's bristle [-].",
                         "true|false"),
         Spec::selection("Interface/In-step bristle law", "implicit Euler",
                         "What the integrator sees of the bristles within a step; after every step the paper's "
@@ -315,7 +316,8 @@ namespace fretsim::scenes
                         "Keep the bristles' stiffness in Newton's matrix at the iterate for the cells where it "
                         "changed most since the Jacobian (a cell that turned from sticking to sliding or back; "
                         "at most 32 cells, by Woodbury's identity). On the suite's small ring with a flexible "
-                        "housing it removed three quarters of the Newton failures; on the paper's 6208, where "
+                        "housing, the paper's bristles and the direct solve it removed three quarters of the "
+                        "Newton failures; on the paper's 6208, where "
                         "about 200 cells change per evaluation, it did not help (docs/bearing.md) [-].",
                         "true|false"),
         Spec::selection("Integrator/Newton-Krylov", "auto",

@@ -242,7 +242,7 @@ TEST(BearingScene, AFlexibleHousingTakesItsShareAndAStiffOneIsTheRigidHousing)
   const double      steps = summary_number(newton, "steps"),
                failures   = summary_number(newton, "newton_convergence_failures");
   std::printf("flexible housing: %.0f steps, %.0f Newton failures\n", steps, failures);
-  EXPECT_EQ(newton.find("\"bristles_follow_closure\": false"), std::string::npos);
+  EXPECT_NE(newton.find("\"bristles_follow_closure\": true"), std::string::npos);
   EXPECT_LE(failures, 0.01 * steps);
   // The paper's bristles (k_t at every pressure) and the direct solve:
   // measured 70-85 failures in 488-510 steps (the step sequence follows the
@@ -256,7 +256,9 @@ TEST(BearingScene, AFlexibleHousingTakesItsShareAndAStiffOneIsTheRigidHousing)
   const double      paper_failures = summary_number(paper, "newton_convergence_failures");
   std::printf("the paper's bristles, direct solve: %.0f Newton failures in %.0f steps\n", paper_failures,
               summary_number(paper, "steps"));
+  EXPECT_NE(paper.find("\"bristles_follow_closure\": false"), std::string::npos);
   EXPECT_LT(paper_failures, 1.2 * 85.0);
+  EXPECT_LT(summary_number(paper, "steps"), 1.2 * 510.0);
   EXPECT_GT(paper_failures, 10.0 * std::max(failures, 1.0));
   // The fading bristles alone (direct solve): measured 2 failures in 442
   // steps; D_max within 0.1 % of the paper's bristles' (0.09234 against
@@ -303,7 +305,9 @@ TEST(BearingScene, AFlexibleHousingTakesItsShareAndAStiffOneIsTheRigidHousing)
   EXPECT_EQ(dims[1], 40u + 40u); // the ring's 30 + 10 coordinates, then the housing's
 
   // Stiff housing = rigid housing: the pressure field at every sample within
-  // 1 % of its peak (measured 0.24-0.64 %, 0.16 % before the balls took the
+  // 1 % of its peak (measured 0.35 % with Newton-Krylov on the stiff housing,
+  // its default there, and the direct solve on the rigid one; 0.24-0.64 %
+  // with the direct solve on both, 0.16 % before the balls took the
   // pressure's residual, whose dependence on q Newton's matrix leaves out:
   // the step sequences differ; 3.3 % when
   // the runs were without the residual flexibilities, on the layer's C¹
@@ -347,7 +351,7 @@ TEST(BearingScene, AFlexibleHousingTakesItsShareAndAStiffOneIsTheRigidHousing)
   const double peak_with = peak_pressure(steel), peak_without = peak_pressure(basis_only);
   std::printf("steel housing: peak pressure %.4g Pa with its residual flexibility, %.4g Pa without\n", peak_with,
               peak_without);
-  EXPECT_LT(peak_with, 0.995 * peak_without); // measured 59.1 against 63.9 MPa (-7.5 %; sharp closure 66.5 against 67.7)
+  EXPECT_LT(peak_with, 0.995 * peak_without); // measured 59.1 against 63.8 MPa (-7.3 %; sharp closure 66.5 against 67.7)
   // A housing model without R_h (`reduce` always stores it for a held
   // housing with a bore grid: made here by hand) is refused while the scene
   // asks for R_h: exit 2 naming the parameter, nothing written.

@@ -16,8 +16,7 @@ namespace
 {
   /// 64 x 64 cells, 40 steps per cycle, 2 cycles, one depth layer; the exact
   /// solver at its default tolerance 1e-8, at which the figures below were
-  /// measured (the shipped file's 1e-6 shortens the incremental solves
-  /// relatively more).
+  /// measured.
   std::string scene_text(const std::string &model)
   {
     return test_files::edited_paper_scene({{"Cells x", "64"}, {"Cells y", "64"}, {"Cycles", "2"},
@@ -87,16 +86,12 @@ TEST(TractionModels, CompareTractionReportsEveryModelAgainstExact)
   const double exact_iterations = iterations("exact");
   EXPECT_GT(exact_iterations, 10.0);
   EXPECT_LT(iterations("exact_masing"), 0.5 * exact_iterations);
+  // The speed-ups (the paper's claim for the bristle models' traction stage:
+  // orders of magnitude, measured 400-900x here) are reported; their size is
+  // bench/'s to measure.
   for (const auto &model : {"bristle", "elastoplastic bristle", "exact masing"})
-    for (const int column : {1, 3}) // the speed-ups: reported, finite and positive
+    for (const int column : {1, 3})
       EXPECT_TRUE(std::isfinite(rows[model][column]) && rows[model][column] > 0.0) << model << ", column " << column;
-  // The paper's claim, for the traction stage: the local bristle models
-  // update each cell in closed form, no iterations (the exact solver's
-  // iterations each cost two FFT convolutions: measured 400-900x their time).
-  for (const auto &folder : {"bristle", "elastoplastic_bristle"})
-    EXPECT_EQ(test_files::read_text(output / folder / "summary.json").find("traction_iterations_per_step"),
-              std::string::npos)
-      << folder;
   // The exponential bristle's loop is the farther from exact (8.5 % vs 2.3 %
   // of mu P on the paper case) and dissipates several times more (docs/concentrated.md).
   EXPECT_GT(rows["bristle"][4], rows["elastoplastic bristle"][4]);

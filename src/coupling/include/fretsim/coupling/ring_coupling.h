@@ -214,8 +214,10 @@ namespace fretsim::coupling
   /// closure, and Newton's method failed on those jumps. Tangential traction
   /// from the bristle model (paper eq. 4), advanced by implicit Euler in the
   /// slip since the last accepted step:
-  ///     τ(q) = (τ_n + k_t ds(q)) / (1 + k_t |ds(q)| / (μ p(q))),
-  ///     ds = -(u_t(q) - u_t,n)   (the housing's shift relative to the ring).
+  ///     τ(q) = (τ_n + k ds(q)) / (1 + k |ds(q)| / (μ p(q))),
+  ///     ds = -(u_t(q) - u_t,n)   (the housing's shift relative to the ring),
+  /// k = k_t, or k_t (1 − e^(−p/p_c)) under the layer's closure
+  /// (InterfaceSettings::bristles_follow_closure).
   /// accept() applies exactly this update after every accepted step. Within a
   /// step (add_forces) the integrator sees, by InterfaceSettings::
   /// in_step_bristle_law, either the same law (implicit_euler, the default:
@@ -223,7 +225,7 @@ namespace fretsim::coupling
   /// balanced is what is committed; its ∂τ/∂ds is not symmetric, and at
   /// ds = 0, where every cell starts its step, a cell near μp takes the
   /// derivative of sliding on), or (linearised) an approximation: a sticking
-  /// cell is a linear spring τ_n + k_t ds capped at μp, a sliding cell
+  /// cell is a linear spring τ_n + k ds capped at μp, a sliding cell
   /// (|τ_n| ≥ 0.9 μ p_n) keeps its ratio τ/p and direction. The linearised
   /// step is stiffer than the law near saturation and a sliding cell's
   /// traction does not grow towards μp within it; the committed update then

@@ -519,7 +519,7 @@ namespace fretsim::app
         r    = ranks();
         root = r.rank == 0;
         OutputPolicy policy;
-        policy.own_files   = {"map.h5", "map.csv", "map.csv.tmp", "map.png", "boundary.csv", "points/"};
+        policy.own_files   = {"map.h5", "map.h5.part", "map.csv", "map.csv.tmp", "map.png", "boundary.csv", "points/"};
         policy.force       = options.force;
         policy.resume_file = "map.h5";
         std::vector<long> done;

@@ -2,8 +2,15 @@
 // "definition" (what makes two maps the same map) and "axes"; /points/<name>
 // one row per record: "index" (int64), "axis_values" [n, n_axes], one 1-D
 // dataset per number, and "status", "message", "regime", "parameters"
-// (variable-length strings). Rows are appended and the file flushed after
-// each, as results.h5 does (results_file.cpp: crash safety).
+// (variable-length strings).
+//
+// Crash safety: every change writes the whole file anew beside it
+// (map.h5.part) and renames it over map.h5, so map.h5 is always a whole file,
+// the last one or the one before, whenever the process is killed. (Appending
+// in place and flushing is not enough: HDF5 writes a flush's metadata in no
+// particular order, and a kill during one left a file whose chunk index
+// pointed past its end.) A map's records are small and a point's run long:
+// the rewrite costs milliseconds.
 #include <fretsim/output/map_file.h>
 
 #include "hdf5_handles.h"
@@ -20,7 +27,9 @@ namespace fretsim::output
 
     const char *const text_columns[] = {"status", "message", "regime", "parameters"};
 
-    std::string &text_of(MapRecord &record, int column)
+    /// A record's text column (`Record`: MapRecord or const MapRecord).
+    template <class Record>
+    auto &text_of(Record &record, int column)
     {
       switch (column)
         {
@@ -65,33 +74,18 @@ namespace fretsim::output
       return value;
     }
 
-    /// A dataset of rows that grows along its first axis (width 0: 1-D).
-    Handle create_rows(hid_t group, const std::string &name, hid_t type, hsize_t width, const std::string &file)
-    {
-      const int     rank          = width == 0 ? 1 : 2;
-      const hsize_t dims[2]       = {0, width}, max_dims[2] = {H5S_UNLIMITED, width};
-      const hsize_t chunk[2]      = {64, width == 0 ? 1 : width};
-      const Handle  space         = make(H5Screate_simple(rank, dims, max_dims), H5Sclose, file, name, "dataspace");
-      const Handle  properties    = make(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, file, name, "properties");
-      check(H5Pset_chunk(properties.get(), rank, chunk), file, name, "cannot chunk");
-      return make(H5Dcreate2(group, name.c_str(), type, space.get(), H5P_DEFAULT, properties.get(), H5P_DEFAULT),
-                  H5Dclose, file, name, "cannot create the dataset");
-    }
-
-    /// Writes `data` (one row) at row `row`, growing the dataset by one.
-    void append_row(hid_t group, const std::string &name, hid_t type, hsize_t row, hsize_t width, const void *data,
+    /// A dataset of `rows` rows of `width` values of `type` (width 0: 1-D), written whole.
+    void write_rows(hid_t group, const std::string &name, hid_t type, hsize_t rows, hsize_t width, const void *data,
                     const std::string &file)
     {
-      const Handle  dataset = make(H5Dopen2(group, name.c_str(), H5P_DEFAULT), H5Dclose, file, name, "cannot open");
       const int     rank    = width == 0 ? 1 : 2;
-      const hsize_t size[2] = {row + 1, width}, start[2] = {row, 0}, count[2] = {1, width == 0 ? 1 : width};
-      check(H5Dset_extent(dataset.get(), size), file, name, "cannot grow the dataset");
-      const Handle file_space = make(H5Dget_space(dataset.get()), H5Sclose, file, name, "dataspace");
-      check(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr), file, name,
-            "cannot select the row");
-      const Handle memory = make(H5Screate_simple(rank, count, nullptr), H5Sclose, file, name, "dataspace");
-      check(H5Dwrite(dataset.get(), type, memory.get(), file_space.get(), H5P_DEFAULT, data), file, name,
-            "cannot write the row");
+      const hsize_t dims[2] = {rows, width};
+      const Handle  space   = make(H5Screate_simple(rank, dims, nullptr), H5Sclose, file, name, "dataspace");
+      const Handle  dataset = make(H5Dcreate2(group, name.c_str(), type, space.get(), H5P_DEFAULT, H5P_DEFAULT,
+                                              H5P_DEFAULT),
+                                   H5Dclose, file, name, "cannot create the dataset");
+      if (rows > 0)
+        check(H5Dwrite(dataset.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), file, name, "cannot write");
     }
 
     /// The whole dataset as rows of `width` values of `type` (1-D: width 1).
@@ -132,10 +126,89 @@ namespace fretsim::output
 
   struct MapFile::Impl
   {
-    std::string              path;
-    Handle                   file, points;
+    std::string              path, scene, definition;
     std::vector<std::string> axis_names, number_names;
+    /// The last /boundary (MapFile::write_boundary), written with every save.
+    bool                     has_boundary = false;
+    std::vector<double>      boundary_other_axes, boundary, bracket_low, bracket_high;
+
+    /// The whole file, as `records` and the boundary make it, written to
+    /// path.part and renamed over path.
+    void save(const std::vector<MapRecord> &records) const;
   };
+
+  void MapFile::Impl::save(const std::vector<MapRecord> &records) const
+  {
+    const QuietErrors quiet;
+    const std::string part = path + ".part";
+    {
+      const Handle file = make(H5Fcreate(part.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose, part, "",
+                               "cannot create the file");
+      const Handle root = make(H5Gopen2(file.get(), "/", H5P_DEFAULT), H5Gclose, part, "/", "cannot open");
+      write_string_attribute(root.get(), "scene", scene, part);
+      write_string_attribute(root.get(), "definition", definition, part);
+      write_string_attribute(root.get(), "axes", join_lines(axis_names), part);
+      write_string_attribute(root.get(), "numbers", join_lines(number_names), part);
+      const Handle points = make(H5Gcreate2(file.get(), "/points", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
+                                 part, "/points", "cannot create the group");
+      const hsize_t rows = records.size(), width = axis_names.size();
+      std::vector<std::int64_t> index;
+      std::vector<double>       axes;
+      for (const auto &record : records)
+        {
+          index.push_back(record.index);
+          std::vector<double> values = record.axis_values;
+          values.resize(width, std::numeric_limits<double>::quiet_NaN());
+          axes.insert(axes.end(), values.begin(), values.end());
+        }
+      write_rows(points.get(), "index", H5T_NATIVE_INT64, rows, 0, index.data(), part);
+      write_rows(points.get(), "axis_values", H5T_NATIVE_DOUBLE, rows, width, axes.data(), part);
+      for (const auto &name : number_names)
+        {
+          std::vector<double> column;
+          for (const auto &record : records)
+            {
+              const auto found = record.numbers.find(name);
+              column.push_back(found == record.numbers.end() ? std::numeric_limits<double>::quiet_NaN() : found->second);
+            }
+          write_rows(points.get(), name, H5T_NATIVE_DOUBLE, rows, 0, column.data(), part);
+        }
+      const Handle type = string_type(part);
+      for (int column = 0; column < 4; ++column)
+        {
+          std::vector<const char *> texts;
+          for (const auto &record : records)
+            texts.push_back(text_of(record, column).c_str());
+          write_rows(points.get(), text_columns[column], type.get(), rows, 0, texts.data(), part);
+        }
+      if (has_boundary)
+        {
+          const Handle group = make(H5Gcreate2(file.get(), "/boundary", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                                    H5Gclose, part, "/boundary", "cannot create the group");
+          const hsize_t lines = boundary.size(), others = width > 1 ? width - 1 : 0;
+          const auto    write = [&](const std::string &name, const std::vector<double> &values, hsize_t columns) {
+            const hsize_t dims[2] = {lines, columns};
+            const Handle  space = make(H5Screate_simple(columns == 0 ? 1 : 2, dims, nullptr), H5Sclose, part, name,
+                                       "dataspace");
+            const Handle  dataset = make(H5Dcreate2(group.get(), name.c_str(), H5T_NATIVE_DOUBLE, space.get(),
+                                                    H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                                         H5Dclose, part, name, "cannot create the dataset");
+            if (!values.empty())
+              check(H5Dwrite(dataset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), part,
+                    name, "cannot write");
+          };
+          if (others > 0)
+            write("other_axis_values", boundary_other_axes, others);
+          write("first_axis_value", boundary, 0);
+          write("bracket_low", bracket_low, 0);
+          write("bracket_high", bracket_high, 0);
+        }
+    } // closed: on disk as far as the process goes
+    std::error_code error;
+    std::filesystem::rename(part, path, error);
+    if (error)
+      throw std::runtime_error("cannot replace '" + path + "' by '" + part + "': " + error.message());
+  }
 
   MapFile::MapFile(const std::string &path, const std::string &scene, const std::string &definition,
                    const std::vector<std::string> &axis_names, const std::vector<std::string> &number_names)
@@ -143,11 +216,14 @@ namespace fretsim::output
   {
     const QuietErrors quiet;
     impl->path         = path;
+    impl->scene        = scene;
+    impl->definition   = definition;
     impl->axis_names   = axis_names;
     impl->number_names = number_names;
+    std::error_code ignored;
+    std::filesystem::remove(path + ".part", ignored); // a save that was killed: map.h5 is the one before it
     if (std::filesystem::exists(path))
       {
-        written = read(path);
         {
           const Handle file = make(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, path, "",
                                    "cannot open");
@@ -156,92 +232,39 @@ namespace fretsim::output
           if (held != definition || read_string_attribute(root.get(), "scene", path) != scene)
             throw MapFileMismatch("'" + path + "' holds another map (other scene, parameters or axes)");
         }
-        impl->file   = make(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose, path, "", "cannot open");
-        impl->points = make(H5Gopen2(impl->file.get(), "/points", H5P_DEFAULT), H5Gclose, path, "/points",
-                            "cannot open");
+        written = read(path);
         return;
       }
-    impl->file   = make(H5Fcreate(path.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT), H5Fclose, path, "",
-                        "cannot create the file");
-    const Handle root = make(H5Gopen2(impl->file.get(), "/", H5P_DEFAULT), H5Gclose, path, "/", "cannot open");
-    write_string_attribute(root.get(), "scene", scene, path);
-    write_string_attribute(root.get(), "definition", definition, path);
-    write_string_attribute(root.get(), "axes", join_lines(axis_names), path);
-    write_string_attribute(root.get(), "numbers", join_lines(number_names), path);
-    impl->points = make(H5Gcreate2(impl->file.get(), "/points", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
-                        path, "/points", "cannot create the group");
-    const hid_t group = impl->points.get();
-    create_rows(group, "index", H5T_NATIVE_INT64, 0, path);
-    create_rows(group, "axis_values", H5T_NATIVE_DOUBLE, axis_names.size(), path);
-    for (const auto &name : number_names)
-      create_rows(group, name, H5T_NATIVE_DOUBLE, 0, path);
-    const Handle type = string_type(path);
-    for (const char *name : text_columns)
-      create_rows(group, name, type.get(), 0, path);
-    check(H5Fflush(impl->file.get(), H5F_SCOPE_GLOBAL), path, "", "cannot flush");
+    impl->save(written);
   }
 
   MapFile::~MapFile() = default;
 
   void MapFile::append(const MapRecord &record)
   {
-    const QuietErrors  quiet;
-    const std::string &path  = impl->path;
-    const hid_t        group = impl->points.get();
-    const hsize_t      row   = written.size();
-    const std::int64_t index = record.index;
-    append_row(group, "index", H5T_NATIVE_INT64, row, 0, &index, path);
-    std::vector<double> axes = record.axis_values;
-    axes.resize(impl->axis_names.size(), std::numeric_limits<double>::quiet_NaN());
-    append_row(group, "axis_values", H5T_NATIVE_DOUBLE, row, axes.size(), axes.data(), path);
-    for (const auto &name : impl->number_names)
-      {
-        const auto   found = record.numbers.find(name);
-        const double value = found == record.numbers.end() ? std::numeric_limits<double>::quiet_NaN() : found->second;
-        append_row(group, name, H5T_NATIVE_DOUBLE, row, 0, &value, path);
-      }
-    const Handle type = string_type(path);
-    MapRecord    copy = record;
-    for (int column = 0; column < 4; ++column)
-      {
-        const char *text = text_of(copy, column).c_str();
-        append_row(group, text_columns[column], type.get(), row, 0, &text, path);
-      }
-    check(H5Fflush(impl->file.get(), H5F_SCOPE_GLOBAL), path, "", "cannot flush");
     written.push_back(record);
+    try
+      {
+        impl->save(written);
+      }
+    catch (...)
+      {
+        written.pop_back();
+        throw;
+      }
   }
 
   void MapFile::write_boundary(const std::vector<std::vector<double>> &line_values, const std::vector<double> &boundary,
                                const std::vector<double> &bracket_low, const std::vector<double> &bracket_high)
   {
-    const QuietErrors  quiet;
-    const std::string &path = impl->path;
-    const hid_t        file = impl->file.get();
-    if (H5Lexists(file, "/boundary", H5P_DEFAULT) > 0)
-      check(H5Ldelete(file, "/boundary", H5P_DEFAULT), path, "/boundary", "cannot replace");
-    const Handle group = make(H5Gcreate2(file, "/boundary", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, path,
-                              "/boundary", "cannot create the group");
-    const hsize_t lines = boundary.size();
-    const auto    write = [&](const std::string &name, const std::vector<double> &values, hsize_t width) {
-      const hsize_t dims[2] = {lines, width};
-      const Handle  space   = make(H5Screate_simple(width == 0 ? 1 : 2, dims, nullptr), H5Sclose, path, name, "dataspace");
-      const Handle  dataset = make(H5Dcreate2(group.get(), name.c_str(), H5T_NATIVE_DOUBLE, space.get(), H5P_DEFAULT,
-                                              H5P_DEFAULT, H5P_DEFAULT),
-                                   H5Dclose, path, name, "cannot create the dataset");
-      if (!values.empty())
-        check(H5Dwrite(dataset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), path, name,
-              "cannot write");
-    };
-    const hsize_t       others = impl->axis_names.size() > 1 ? impl->axis_names.size() - 1 : 0;
-    std::vector<double> flat;
+    impl->has_boundary = true;
+    impl->boundary_other_axes.clear();
     for (const auto &values : line_values)
-      flat.insert(flat.end(), values.begin(), values.end());
-    if (others > 0)
-      write("other_axis_values", flat, others);
-    write("first_axis_value", boundary, 0);
-    write("bracket_low", bracket_low, 0);
-    write("bracket_high", bracket_high, 0);
-    check(H5Fflush(file, H5F_SCOPE_GLOBAL), path, "", "cannot flush");
+      impl->boundary_other_axes.insert(impl->boundary_other_axes.end(), values.begin(), values.end());
+    impl->boundary     = boundary;
+    impl->bracket_low  = bracket_low;
+    impl->bracket_high = bracket_high;
+    impl->save(written);
   }
 
   std::vector<MapRecord> MapFile::read(const std::string &path)
@@ -254,8 +277,7 @@ namespace fretsim::output
     const auto   number_names = split_lines(read_string_attribute(root.get(), "numbers", path));
     const auto   index = read_all<std::int64_t>(points.get(), "index", H5T_NATIVE_INT64, path);
     const auto   axes  = read_all<double>(points.get(), "axis_values", H5T_NATIVE_DOUBLE, path);
-    // A record is complete once its last column is written: a map killed
-    // inside an append leaves shorter columns, and only full rows count.
+    // Only full rows count: the shortest column bounds them.
     std::size_t rows = index.size();
     std::vector<std::vector<double>> numbers;
     for (const auto &name : number_names)

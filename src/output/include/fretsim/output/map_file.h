@@ -1,8 +1,9 @@
 #pragma once
 // map.h5 of `fretsim map` (docs/results.md): one record per point of the map,
-// appended and flushed as each point finishes, so that a map that stops early
-// leaves a readable file and a restarted map continues from it. HDF5 types
-// stay inside map_file.cpp.
+// saved as each point finishes (the whole file written beside it and renamed
+// over it), so that a map stopped at any moment, even killed, leaves a
+// readable file and a restarted map continues from it. HDF5 types stay
+// inside map_file.cpp.
 #include <map>
 #include <memory>
 #include <stdexcept>
@@ -35,7 +36,7 @@ namespace fretsim::output
     MapFile(const MapFile &)            = delete;
     MapFile &operator=(const MapFile &) = delete;
 
-    /// Appends one record and flushes it to disk.
+    /// Appends one record and saves the file.
     void append(const MapRecord &record);
     /// The records written so far, in the order they were written.
     const std::vector<MapRecord> &records() const { return written; }

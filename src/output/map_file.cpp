@@ -220,8 +220,6 @@ namespace fretsim::output
     impl->definition   = definition;
     impl->axis_names   = axis_names;
     impl->number_names = number_names;
-    std::error_code ignored;
-    std::filesystem::remove(path + ".part", ignored); // a save that was killed: map.h5 is the one before it
     if (std::filesystem::exists(path))
       {
         {
@@ -233,6 +231,8 @@ namespace fretsim::output
             throw MapFileMismatch("'" + path + "' holds another map (other scene, parameters or axes)");
         }
         written = read(path);
+        std::error_code ignored;
+        std::filesystem::remove(path + ".part", ignored); // a save that was killed: map.h5 is the one before it
         return;
       }
     impl->save(written);

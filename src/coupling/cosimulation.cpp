@@ -315,18 +315,9 @@ namespace fretsim::coupling
       const auto start = Clock::now();
       derivative.assign(n, 0.0);
       interface.add_derivative(v, v + n, derivative.data());
-      const auto &ball = balls.linearisation();
-      const Eigen::Map<const Eigen::VectorXd> by_position(v, n), by_velocity(v + n, n);
-      Eigen::Map<Eigen::VectorXd>             force_change(derivative.data(), n);
-      for (std::size_t j = 0; j < ball.by_deflection.size(); ++j)
-        {
-          const double k = ball.by_deflection[j], c = ball.by_deflection_rate[j];
-          if (k == 0.0 && c == 0.0)
-            continue;
-          const Eigen::Map<const Eigen::VectorXd> r(ball.rows.data() + j * n, n), slope(ball.slopes.data() + j * n, n);
-          force_change -= r * (k * r.dot(by_position) + c * ball.cage_speed * slope.dot(by_position) +
-                               c * r.dot(by_velocity));
-        }
+      balls.linearisation().add_derivative(v, v + n, derivative.data());
+      const Eigen::Map<const Eigen::VectorXd> by_position(v, n), by_velocity(v + n, n),
+        force_change(derivative.data(), n);
       Eigen::Map<Eigen::VectorXd>(out, n) = by_velocity;
       Eigen::Map<Eigen::VectorXd> acceleration(out + n, n);
       acceleration = mass.solve(force_change);

@@ -216,7 +216,7 @@ namespace fretsim::coupling
           out = masked;
         for (std::size_t c = 0; c < cells; ++c)
           if (!stiff[c])
-            out[c] = on[c] ? in[c] / (self + layer_compliance + (closed ? closure_diagonal[c] : 0.0)) : 0.0;
+            out[c] = on[c] ? in[c] / (self + layer_compliance + closure_at(c)) : 0.0;
       };
       const auto dot = [&](const contact::Field &u, const contact::Field &v) {
         double sum = 0.0;

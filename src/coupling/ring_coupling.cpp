@@ -1159,4 +1159,21 @@ namespace fretsim::coupling
   const std::vector<double> &BallContacts::loads() const { return impl->loads; }
 
   const BallContacts::Linearisation &BallContacts::linearisation() const { return impl->linearisation; }
+
+  void BallContacts::Linearisation::add_derivative(const double *dq, const double *dv, double *out) const
+  {
+    if (by_deflection.empty())
+      return;
+    const auto                       n = static_cast<Eigen::Index>(rows.size() / by_deflection.size());
+    const Eigen::Map<const VectorXd> by_position(dq, n), by_velocity(dv, n);
+    Eigen::Map<VectorXd>             force_change(out, n);
+    for (std::size_t j = 0; j < by_deflection.size(); ++j)
+      {
+        const double k = by_deflection[j], c = by_deflection_rate[j];
+        if (k == 0.0 && c == 0.0)
+          continue;
+        const Eigen::Map<const VectorXd> r(rows.data() + j * n, n), slope(slopes.data() + j * n, n);
+        force_change -= r * (k * r.dot(by_position) + c * cage_speed * slope.dot(by_position) + c * r.dot(by_velocity));
+      }
+  }
 } // namespace fretsim::coupling

@@ -259,7 +259,7 @@ TEST(BearingScene, AFlexibleHousingTakesItsShareAndAStiffOneIsTheRigidHousing)
   EXPECT_NE(paper.find("\"bristles_follow_closure\": false"), std::string::npos);
   EXPECT_LT(paper_failures, 1.2 * 85.0);
   EXPECT_LT(summary_number(paper, "steps"), 1.2 * 510.0);
-  EXPECT_GT(paper_failures, 10.0 * std::max(failures, 1.0));
+  EXPECT_GT(paper_failures, 10.0 * std::max(failures, 1.0)); // measured 84 against the defaults' 0
   // The fading bristles alone (direct solve): measured 2 failures in 442
   // steps; D_max within 0.1 % of the paper's bristles' (0.09234 against
   // 0.09241: the faded cells carry little shear). Bound: a tenth of the

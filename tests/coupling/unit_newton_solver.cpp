@@ -17,6 +17,7 @@
 
 #include <cmath>
 #include <random>
+#include <stdexcept>
 
 using namespace fretsim::coupling;
 
@@ -87,6 +88,57 @@ namespace
     J.bottomRightCorner(n, n) = mass.llt().solve(Eigen::MatrixXd(balls.by_velocity));
     return J;
   }
+
+  /// The solver tests' case: Newton's matrix I - γJ set up (SUNDIALS' dense
+  /// A) at one state of the balls, and the balls at another, where the cage
+  /// has turned and the inner ring moved so that a ball unloaded at the
+  /// set-up carries load; a random right-hand side b.
+  struct TwoBallStates : System
+  {
+    static constexpr double           gamma = 2e-5;
+    BallContacts                      balls{ring, 9, 7e9, 0.5, 10e-6};
+    const BallState                   at_set_up   = evaluate(balls, 10e-6, 0.3);
+    const BallContacts::Linearisation at_jacobian = balls.linearisation();
+    const BallState                   now         = evaluate(balls, 40e-6, 0.45);
+    Eigen::VectorXd                   b           = Eigen::VectorXd::NullaryExpr(2 * n, [this] { return uniform(generator); });
+    SUNContext                        context     = nullptr;
+    SUNMatrix                         A           = nullptr;
+    N_Vector                          x = nullptr, rhs = nullptr;
+
+    TwoBallStates()
+    {
+      if (SUNContext_Create(nullptr, &context) != 0)
+        throw std::runtime_error("SUNContext_Create failed");
+      A = SUNDenseMatrix(2 * n, 2 * n, context);
+      Eigen::Map<Eigen::MatrixXd>(SM_DATA_D(A), 2 * n, 2 * n) = newton_matrix(at_set_up);
+      x   = N_VNew_Serial(2 * n, context);
+      rhs = N_VNew_Serial(2 * n, context);
+    }
+    ~TwoBallStates()
+    {
+      N_VDestroy(x);
+      N_VDestroy(rhs);
+      SUNMatDestroy(A);
+      SUNContext_Free(&context);
+    }
+    TwoBallStates(const TwoBallStates &)            = delete;
+    TwoBallStates &operator=(const TwoBallStates &) = delete;
+
+    Eigen::MatrixXd newton_matrix(const BallState &state) const
+    {
+      return Eigen::MatrixXd::Identity(2 * n, 2 * n) - gamma * jacobian(mass, stiffness, state);
+    }
+
+    /// `solver`'s solution of A x = b after its set-up with A; frees it.
+    Eigen::VectorXd solve(SUNLinearSolver solver)
+    {
+      EXPECT_EQ(SUNLinSolSetup(solver, A), 0);
+      Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(rhs), 2 * n) = b;
+      EXPECT_EQ(SUNLinSolSolve(solver, A, x, rhs, 0.0), 0);
+      SUNLinSolFree(solver);
+      return Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(x), 2 * n);
+    }
+  };
 } // namespace
 
 TEST(BallContacts, TheirLinearisationIsTheirShareOfTheJacobian)
@@ -117,54 +169,22 @@ TEST(NewtonSolver, KeepsTheBallsShareOfNewtonsMatrixAtTheIterate)
   // unloaded at the set-up carries load: the solve must be that of
   // I - γJ with J at the new state (measured 3e-16; bound 1e-10), and
   // differ from the set-up's own by more than 1 % (measured 7.6 %).
-  System                 system;
-  auto                  &ring      = system.ring;
-  auto                  &generator = system.generator;
-  auto                  &uniform   = system.uniform;
-  const Eigen::MatrixXd &mass = system.mass, &stiffness = system.stiffness;
-  const Eigen::LLT<Eigen::MatrixXd> factor(mass);
-
-  BallContacts balls(ring, 9, 7e9, 0.5, 10e-6);
-  const BallState at_set_up = evaluate(balls, 10e-6, 0.3);
-  const BallContacts::Linearisation at_jacobian = balls.linearisation();
-  const BallState now = evaluate(balls, 40e-6, 0.45);
-  ASSERT_GT(now.loaded, at_set_up.loaded);
-
-  const double gamma = 2e-5;
-  const auto   newton_matrix = [&](const BallState &state) {
-    return Eigen::MatrixXd(Eigen::MatrixXd::Identity(2 * n, 2 * n) - gamma * jacobian(mass, stiffness, state));
-  };
-  Eigen::VectorXd b(2 * n);
-  for (double &value : b)
-    value = uniform(generator);
-
-  SUNContext context = nullptr;
-  ASSERT_EQ(SUNContext_Create(nullptr, &context), 0);
-  SUNMatrix A = SUNDenseMatrix(2 * n, 2 * n, context);
-  Eigen::Map<Eigen::MatrixXd>(SM_DATA_D(A), 2 * n, 2 * n) = newton_matrix(at_set_up);
-  N_Vector x = N_VNew_Serial(2 * n, context), rhs = N_VNew_Serial(2 * n, context);
-  const auto solve = [&](const NewtonUpdates &with) {
-    SUNLinearSolver solver = make_newton_solver(context, with);
-    EXPECT_EQ(SUNLinSolSetup(solver, A), 0);
-    Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(rhs), 2 * n) = b;
-    EXPECT_EQ(SUNLinSolSolve(solver, A, x, rhs, 0.0), 0);
-    SUNLinSolFree(solver);
-    return Eigen::VectorXd(Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(x), 2 * n));
-  };
-  const Eigen::VectorXd updated  = solve({&factor, [] { return std::size_t(1); }, [&](StiffnessChange &change) {
-                                            add_ball_change(balls.linearisation(), at_jacobian, n, change);
-                                          }});
-  const Eigen::VectorXd as_set_up = solve({});
-  const Eigen::VectorXd exact     = newton_matrix(now).partialPivLu().solve(b);
+  TwoBallStates states;
+  ASSERT_GT(states.now.loaded, states.at_set_up.loaded);
+  const Eigen::LLT<Eigen::MatrixXd> factor(states.mass);
+  const NewtonUpdates               at_the_iterate{&factor, [] { return std::size_t(1); },
+                                     [&](StiffnessChange &change) {
+                                       add_ball_change(states.balls.linearisation(), states.at_jacobian, n, change);
+                                     }};
+  const Eigen::VectorXd updated   = states.solve(make_newton_solver(states.context, at_the_iterate));
+  const Eigen::VectorXd as_set_up = states.solve(make_newton_solver(states.context, {}));
+  const Eigen::VectorXd exact     = states.newton_matrix(states.now).partialPivLu().solve(states.b);
   EXPECT_LT((updated - exact).norm(), 1e-10 * exact.norm());
-  EXPECT_LT((as_set_up - newton_matrix(at_set_up).partialPivLu().solve(b)).norm(), 1e-10 * exact.norm());
+  EXPECT_LT((as_set_up - states.newton_matrix(states.at_set_up).partialPivLu().solve(states.b)).norm(),
+            1e-10 * exact.norm());
   EXPECT_GT((as_set_up - exact).norm(), 1e-2 * exact.norm());
   std::printf("updated %.2e, as set up %.2e off the solve at the iterate\n", (updated - exact).norm() / exact.norm(),
               (as_set_up - exact).norm() / exact.norm());
-  N_VDestroy(x);
-  N_VDestroy(rhs);
-  SUNMatDestroy(A);
-  SUNContext_Free(&context);
 }
 
 TEST(NewtonSolver, GmresSolvesNewtonsSystemWithTheJacobianAtTheIterate)
@@ -174,29 +194,12 @@ TEST(NewtonSolver, GmresSolvesNewtonsSystemWithTheJacobianAtTheIterate)
   // give the dense solve at the second (at a tolerance of 1e-12 within 2n
   // iterations, the whole Krylov space; measured 9e-16 in 8), and stop
   // early at a loose one with an error to match (1e-2: 2 iterations, 4e-4).
-  System                 system;
-  auto                  &ring      = system.ring;
-  auto                  &generator = system.generator;
-  auto                  &uniform   = system.uniform;
-  const Eigen::MatrixXd &mass = system.mass, &stiffness = system.stiffness;
-  BallContacts    balls(ring, 9, 7e9, 0.5, 10e-6);
-  const BallState at_set_up = evaluate(balls, 10e-6, 0.3), now = evaluate(balls, 40e-6, 0.45);
-  ASSERT_GT(now.loaded, at_set_up.loaded);
-  const double          gamma = 2e-5;
-  const Eigen::MatrixXd J_now = jacobian(mass, stiffness, now);
-  Eigen::VectorXd       b(2 * n);
-  for (double &value : b)
-    value = uniform(generator);
-  const Eigen::VectorXd exact = (Eigen::MatrixXd::Identity(2 * n, 2 * n) - gamma * J_now).partialPivLu().solve(b);
-
-  SUNContext context = nullptr;
-  ASSERT_EQ(SUNContext_Create(nullptr, &context), 0);
-  SUNMatrix A = SUNDenseMatrix(2 * n, 2 * n, context);
-  Eigen::Map<Eigen::MatrixXd>(SM_DATA_D(A), 2 * n, 2 * n) =
-    Eigen::MatrixXd::Identity(2 * n, 2 * n) - gamma * jacobian(mass, stiffness, at_set_up);
-  N_Vector   x = N_VNew_Serial(2 * n, context), rhs = N_VNew_Serial(2 * n, context);
-  const auto solve = [&](double tolerance, long &iterations) {
-    SUNLinearSolver  solver = make_newton_solver(context, {});
+  TwoBallStates states;
+  ASSERT_GT(states.now.loaded, states.at_set_up.loaded);
+  const Eigen::MatrixXd J_now = jacobian(states.mass, states.stiffness, states.now);
+  const Eigen::VectorXd exact = states.newton_matrix(states.now).partialPivLu().solve(states.b);
+  const auto            solve = [&](double tolerance, long &iterations) {
+    SUNLinearSolver  solver = make_newton_solver(states.context, {});
     JacobianProducts products;
     products.times = [&](double, const double *, const double *v, double *out) {
       Eigen::Map<Eigen::VectorXd>(out, 2 * n) = J_now * Eigen::Map<const Eigen::VectorXd>(v, 2 * n);
@@ -204,26 +207,18 @@ TEST(NewtonSolver, GmresSolvesNewtonsSystemWithTheJacobianAtTheIterate)
     products.tolerance  = tolerance;
     products.iterations = &iterations;
     set_krylov(solver, nullptr, products);
-    EXPECT_EQ(SUNLinSolSetup(solver, A), 0);
-    Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(rhs), 2 * n) = b;
-    EXPECT_EQ(SUNLinSolSolve(solver, A, x, rhs, 0.0), 0);
-    SUNLinSolFree(solver);
-    return Eigen::VectorXd(Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(x), 2 * n));
+    return states.solve(solver);
   };
-  long            tight_iterations = 0, loose_iterations = 0;
-  const double    scale = exact.norm() / std::sqrt(2.0 * n); // the RMS norm's
-  const auto      tight = solve(1e-12, tight_iterations), loose = solve(1e-2 * scale, loose_iterations);
-  const double    tight_error = (tight - exact).norm() / exact.norm(), loose_error = (loose - exact).norm() / exact.norm();
+  long         tight_iterations = 0, loose_iterations = 0;
+  const double scale = exact.norm() / std::sqrt(2.0 * n); // the RMS norm's
+  const auto   tight = solve(1e-12, tight_iterations), loose = solve(1e-2 * scale, loose_iterations);
+  const double tight_error = (tight - exact).norm() / exact.norm(), loose_error = (loose - exact).norm() / exact.norm();
   std::printf("GMRES: %ld iterations, %.2e off the solve at the iterate; loose: %ld, %.2e\n", tight_iterations,
               tight_error, loose_iterations, loose_error);
   EXPECT_LT(tight_error, 1e-10);
   EXPECT_LE(tight_iterations, static_cast<long>(2 * n));
   EXPECT_LT(loose_iterations, tight_iterations);
   EXPECT_LT(loose_error, 1e-2);
-  N_VDestroy(x);
-  N_VDestroy(rhs);
-  SUNMatDestroy(A);
-  SUNContext_Free(&context);
 }
 
 TEST(NewtonSolver, TheBristlesChangeIsTheirRowsAroundTheirStiffnessChange)

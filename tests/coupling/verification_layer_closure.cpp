@@ -97,6 +97,31 @@ namespace
     settings.bristles_follow_closure = true;
     return settings;
   }
+
+  /// Its accepted state q0 and a trial state q near it (the closure's
+  /// cells beyond its tail, in it and open).
+  struct ClosureStates
+  {
+    std::vector<double> q0, q;
+    ClosureStates()
+    {
+      for (std::size_t j = 0; j < 5; ++j)
+        {
+          q0.push_back(1e-10 * std::cos(1.3 * j));
+          q.push_back(q0.back() + 0.02e-9 * std::cos(3.0 * j));
+        }
+    }
+  };
+
+  /// The interface's force at a state, for the finite differences.
+  auto force_of(InterfaceContact &contact)
+  {
+    return [&contact](const std::vector<double> &at, const std::vector<double> &rate) {
+      std::vector<double> out(at.size(), 0.0);
+      contact.add_forces(at.data(), rate.data(), {out.data(), nullptr, nullptr});
+      return out;
+    };
+  }
 } // namespace
 
 TEST(LayerClosure, AUniformPenetrationGivesTheScalarLaw)
@@ -307,14 +332,11 @@ TEST(LayerClosure, TheInterfaceJacobianCarriesTheClosuresSensitivity)
   // With the closure p(q) is smooth across the patch's edge, so its
   // Jacobian (coupled and tail cells, normal and bristles) must match
   // central differences there too; μ = 10 keeps the bristles sticking.
-  const auto        ring     = closure_ring();
-  InterfaceSettings settings = closure_settings();
-  std::vector<double> q0(5), v(5, 0.0), q;
-  for (std::size_t j = 0; j < 5; ++j)
-    q0[j] = 1e-10 * std::cos(1.3 * j);
-  q = q0;
-  for (std::size_t j = 0; j < q.size(); ++j)
-    q[j] += 0.02e-9 * std::cos(3.0 * j);
+  const auto          ring     = closure_ring();
+  InterfaceSettings   settings = closure_settings();
+  const ClosureStates states;
+  const auto         &q0 = states.q0, &q = states.q;
+  const std::vector<double> v(5, 0.0);
   // Both in-step bristle laws: each carries the faded stiffness's ∂k/∂p
   // (left out: 1.2e-2 with the implicit Euler law).
   for (const auto law : {InStepBristleLaw::implicit_euler, InStepBristleLaw::linearised})
@@ -338,12 +360,7 @@ TEST(LayerClosure, TheInterfaceJacobianCarriesTheClosuresSensitivity)
       ASSERT_GT(deep, 10u);
       ASSERT_GT(tail, 5u);
       ASSERT_GT(open, 10u);
-      const auto evaluate = [&contact](const std::vector<double> &at, const std::vector<double> &rate) {
-        std::vector<double> out(at.size(), 0.0);
-        contact.add_forces(at.data(), rate.data(), {out.data(), nullptr, nullptr});
-        return out;
-      };
-      const double error = fretsim::coupling::testing::jacobian_error(5, q, v, 0, 1e-13, evaluate, dq);
+      const double error = fretsim::coupling::testing::jacobian_error(5, q, v, 0, 1e-13, force_of(contact), dq);
       std::printf("interface Jacobian with the closure, %s law, against central differences: %.3g\n",
                   law == InStepBristleLaw::linearised ? "linearised" : "implicit Euler", error);
       // measured 4e-6 (7e-4 and 3e-4 at fits of 0 and 5e-11 m, other cells
@@ -364,15 +381,11 @@ TEST(LayerClosure, TheInterfaceDerivativeFollowsTheLastEvaluation)
   InterfaceSettings settings = closure_settings();
   settings.normal_damping_time  = 1e-5;
   constexpr std::size_t n = 5;
-  std::vector<double>   q0(n), v(n, 0.0), q, elsewhere;
+  const ClosureStates   states;
+  const auto           &q0 = states.q0, &q = states.q;
+  std::vector<double>   v(n, 0.0), elsewhere = q0;
   for (std::size_t j = 0; j < n; ++j)
-    q0[j] = 1e-10 * std::cos(1.3 * j);
-  q = elsewhere = q0;
-  for (std::size_t j = 0; j < n; ++j)
-    {
-      q[j] += 0.02e-9 * std::cos(3.0 * j);
-      elsewhere[j] += 0.05e-9 * std::sin(2.0 * j);
-    }
+    elsewhere[j] += 0.05e-9 * std::sin(2.0 * j);
   InterfaceContact contact(ring, settings);
   contact.keep_derivatives();
   contact.accept(q0.data(), v.data());
@@ -405,12 +418,8 @@ TEST(LayerClosure, TheInterfaceDerivativeFollowsTheLastEvaluation)
       velocity_scale = std::max(velocity_scale, std::abs(by_velocity[k]));
     }
   ASSERT_GT(velocity_scale, 0.0);
-  const auto evaluate = [&contact](const std::vector<double> &at, const std::vector<double> &rate) {
-    std::vector<double> out(at.size(), 0.0);
-    contact.add_forces(at.data(), rate.data(), {out.data(), nullptr, nullptr});
-    return out;
-  };
-  const double position_error = fretsim::coupling::testing::jacobian_error(n, q, v, 0, 1e-13, evaluate, along_position);
+  const double position_error =
+    fretsim::coupling::testing::jacobian_error(n, q, v, 0, 1e-13, force_of(contact), along_position);
   std::printf("interface derivative: by position %.3g against central differences, by velocity %.3g against the Jacobian\n",
               position_error, velocity_error / velocity_scale);
   EXPECT_LT(position_error, 2e-2);
@@ -424,11 +433,9 @@ TEST(LayerClosure, TheBristlesStiffnessFollowsTheClosure)
   // |τ| = k |ds| / (1 + k |ds| / (μ p)), with k = k_t (1 − e^(−p/p_c))
   // (InterfaceSettings::bristles_follow_closure) or k = k_t (the paper's).
   // ds the cell's slip from q = 0, from the ring's rows; to round-off.
-  const auto ring = closure_ring();
-  const auto n    = static_cast<std::size_t>(ring.n);
-  std::vector<double> q(n), v(n, 0.0);
-  for (std::size_t j = 0; j < n; ++j)
-    q[j] = 1e-10 * std::cos(1.3 * j) + 0.02e-9 * std::cos(3.0 * j);
+  const auto                ring = closure_ring();
+  const auto                n    = static_cast<std::size_t>(ring.n);
+  const std::vector<double> q = ClosureStates().q, v(n, 0.0);
   for (const bool follow : {true, false})
     {
       InterfaceSettings settings       = closure_settings();

@@ -333,6 +333,8 @@ namespace fretsim::coupling
       std::vector<double> rows, slopes;                      ///< [ball][n]
       std::vector<double> by_deflection, by_deflection_rate; ///< k_j [N/m], c_j [N s/m]
       double              cage_speed = 0.0;                  ///< Ω [rad/s]
+      /// out += (∂F/∂q) dq + (∂F/∂q̇) dv [n] (the derivatives above along one direction).
+      void add_derivative(const double *dq, const double *dv, double *out) const;
     };
     const Linearisation &linearisation() const;
 

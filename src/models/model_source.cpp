@@ -34,6 +34,38 @@ namespace fretsim::models
       return source;
     }
 
+    /// The basis sizes the scene sets over the configuration's (`fixed`: m,
+    /// `modes`: n_cc; 0 keeps the configuration's) as reduction overrides;
+    /// returns the tag they add to the model file's name, "-m<m>-ncc<n_cc>".
+    std::string basis_overrides(const app::SceneParameters &par, const char *fixed, const char *modes,
+                                ModelSource &source)
+    {
+      std::string suffix;
+      for (const auto &[parameter, reduction, tag] :
+           {std::tuple<const char *, const char *, const char *>{fixed, "Reduction/Fixed-interface modes", "-m"},
+            {modes, "Reduction/Characteristic constraint modes", "-ncc"}})
+        if (const long count = par.get_integer(parameter); count > 0)
+          {
+            source.overrides.emplace_back(reduction, std::to_string(count));
+            suffix += tag + std::to_string(count);
+          }
+      return suffix;
+    }
+
+    /// The model file named after its overrides' tag: model.h5 ->
+    /// model-ncc40.h5, results/ring-model.h5 -> results/ring-ncc40-model.h5.
+    void tag_file(const app::SceneParameters &par, const std::string &suffix, ModelSource &source)
+    {
+      namespace fs = std::filesystem;
+      if (suffix.empty())
+        return;
+      const fs::path file          = source.file;
+      std::string    stem          = file.stem().string();
+      const bool     named_default = par.get(source.file_parameter).empty();
+      stem = named_default ? stem.substr(0, stem.size() - std::string("-model").size()) + suffix + "-model" : stem + suffix;
+      source.file = (file.parent_path() / (stem + file.extension().string())).string();
+    }
+
     /// The ring's raceway footprints as reduction parameters: with
     /// Model/Ball footprint = load following, the Hertz ellipses of a ball on
     /// the outer raceway (Bearing/..., the ring's groove and material) at
@@ -96,16 +128,8 @@ namespace fretsim::models
     ModelSource source = model_source(par, "Model/Reduction configuration", "Model/Model file");
     // The basis sizes over the configuration's: a study of D_max against the
     // ring's basis is one `--set` per run, each model in its own file.
-    std::string suffix;
-    for (const auto &[parameter, reduction, tag] :
-         {std::tuple<const char *, const char *, const char *>{"Model/Fixed-interface modes",
-                                                              "Reduction/Fixed-interface modes", "-m"},
-          {"Model/Characteristic constraint modes", "Reduction/Characteristic constraint modes", "-ncc"}})
-      if (const long count = par.get_integer(parameter); count > 0)
-        {
-          source.overrides.emplace_back(reduction, std::to_string(count));
-          suffix += tag + std::to_string(count);
-        }
+    std::string suffix = basis_overrides(par, "Model/Fixed-interface modes", "Model/Characteristic constraint modes",
+                                         source);
     source.footprint_overrides = footprint_overrides(par, source.config);
     if (!source.footprint_overrides.empty())
       {
@@ -114,23 +138,19 @@ namespace fretsim::models
         source.footprint_tag = "-hertz";
         suffix += source.footprint_tag;
       }
-    if (!suffix.empty())
-      { // model.h5 -> model-ncc40.h5, results/ring-model.h5 -> results/ring-ncc40-model.h5
-        const fs::path file = source.file;
-        std::string    stem = file.stem().string();
-        const bool     named_default = par.get("Model/Model file").empty();
-        stem = named_default ? stem.substr(0, stem.size() - std::string("-model").size()) + suffix + "-model"
-                             : stem + suffix;
-        source.file = (file.parent_path() / (stem + file.extension().string())).string();
-      }
+    tag_file(par, suffix, source);
     source.expected_hash = reduce_input_hash(source.config, source.overrides);
     return source;
   }
 
   ModelSource housing_model_source(const app::SceneParameters &par)
   {
-    ModelSource source   = model_source(par, "Model/Housing reduction configuration", "Model/Housing model file");
-    source.expected_hash = reduce_input_hash(source.config);
+    ModelSource source = model_source(par, "Model/Housing reduction configuration", "Model/Housing model file");
+    tag_file(par,
+             basis_overrides(par, "Model/Housing fixed-interface modes", "Model/Housing characteristic constraint modes",
+                             source),
+             source);
+    source.expected_hash = reduce_input_hash(source.config, source.overrides);
     return source;
   }
 

@@ -128,6 +128,16 @@ namespace fretsim::scenes
              "Ring/Width and interface grid as the ring's. Empty: the housing is rigid and fixed, as in the paper [-]."),
         text("Model/Housing model file", "",
              "The housing's reduced model file; empty: results/<housing configuration name>-model.h5 [-]."),
+        Spec::integer_range("Model/Housing characteristic constraint modes", "0",
+                            "n_cc of a flexible housing's model over its reduction configuration's (0: the "
+                            "configuration's): the bore's shapes, which carry the housing's tangential give (its "
+                            "residual flexibility holds the normal one only; docs/bearing.md). The model is built on "
+                            "first use into its own file [-].",
+                            0, 5000),
+        Spec::integer_range("Model/Housing fixed-interface modes", "0",
+                            "m of a flexible housing's model over its reduction configuration's (0: the "
+                            "configuration's) [-].",
+                            0, 5000),
         Spec::selection("Model/Build if missing", "true",
                         "Build the model file with `fretsim reduce` when it is missing or was made from other inputs "
                         "(false: stop with an error) [-].",
@@ -614,6 +624,10 @@ namespace fretsim::scenes
         if (par.get_bool("Interface/Half-space completion"))
           s.housing_completion_modulus = elastic(housing.request.materials.at(fem::MaterialId::housing)).plane_modulus();
       }
+    else
+      for (const char *parameter : {"Model/Housing characteristic constraint modes", "Model/Housing fixed-interface modes"})
+        if (par.get_integer(parameter) != 0)
+          par.reject(parameter, "0 without a flexible housing (Model/Housing reduction configuration)");
     read_bearing(s, par, body);
     read_loading(s, par);
     const Material ring_material = elastic(body.materials.at(fem::MaterialId::ring));

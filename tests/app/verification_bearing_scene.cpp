@@ -428,6 +428,29 @@ TEST(BearingScene, AFlexibleHousingTakesItsShareAndAStiffOneIsTheRigidHousing)
   EXPECT_NE(no_housing.output.find("the housing is not compared"), std::string::npos) << no_housing.output;
   EXPECT_TRUE(std::filesystem::exists(dir / "ring_only" / "compare.csv"));
   EXPECT_FALSE(std::filesystem::exists(dir / "ring_only" / "compare_housing.csv"));
+
+  // The housing's interface basis set by the scene (the study of D_max
+  // against the housing's n_cc, docs/bearing.md): a model of its own, built
+  // on first use into its own file, with n_cc + m coordinates; compare
+  // resolves the same file. Without a flexible housing the setting is refused.
+  const std::string housing_basis = " --set 'Model/Housing characteristic constraint modes=20'";
+  const auto        smaller       = run_program("run " + (dir / "steel.scene.prm").string() + " -q --no-plots -o " +
+                                                (dir / "housing_ncc20").string() +
+                                                " --set 'Loading/Ball pass periods=0.25'" + housing_basis);
+  ASSERT_EQ(smaller.exit_code, 0) << smaller.output;
+  EXPECT_NE(smaller.output.find("--set 'Reduction/Characteristic constraint modes=20'"), std::string::npos)
+    << smaller.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "housing.prm-model-ncc20.h5"));
+  EXPECT_EQ(summary_number(read_text(dir / "housing_ncc20" / "summary.json"), "housing_coordinates"), 20.0 + 10.0);
+  const auto compare_smaller = fretsim::app::read_compare_inputs(
+    (dir / "steel.scene.prm").string(), {{"Model/Housing characteristic constraint modes", "20"}});
+  EXPECT_EQ(compare_smaller.housing_model_file, (dir / "housing.prm-model-ncc20.h5").string());
+  const auto without_housing = run_program("run " + (dir / "rigid.scene.prm").string() + " -q --no-plots -o " +
+                                           (dir / "refused_basis").string() + housing_basis);
+  EXPECT_EQ(without_housing.exit_code, 2) << without_housing.output;
+  EXPECT_NE(without_housing.output.find("Model/Housing characteristic constraint modes"), std::string::npos)
+    << without_housing.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "refused_basis"));
 }
 
 TEST(BearingScene, AHalfSpaceAtTheInterfaceSpreadsThePressureAndMakesTheLayerAPenalty)

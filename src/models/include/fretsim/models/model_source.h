@@ -23,13 +23,14 @@ namespace fretsim::models
   /// A reduced model as `run` and `compare` resolve it: the reduction
   /// configuration (relative to the scene's file), the model file (empty
   /// parameter: results/<configuration name>-model.h5, where `fretsim reduce`
-  /// writes it; the ring's with basis sizes the scene sets gets them in its
-  /// name, results/<name>-m<m>-ncc<n_cc>-model.h5 or <file>-m<m>-ncc<n_cc>.h5,
-  /// so that each model keeps its file), and the reduction parameters the
-  /// scene sets over the configuration's (Model/Fixed-interface modes,
-  /// Model/Characteristic constraint modes, and the raceway footprints of
-  /// Model/Ball footprint = load following, which add -hertz to the name:
-  /// the ring's only).
+  /// writes it; with basis sizes the scene sets they go into its name,
+  /// results/<name>-m<m>-ncc<n_cc>-model.h5 or <file>-m<m>-ncc<n_cc>.h5, so
+  /// that each model keeps its file), and the reduction parameters the scene
+  /// sets over the configuration's (the ring's Model/Fixed-interface modes,
+  /// Model/Characteristic constraint modes and the raceway footprints of
+  /// Model/Ball footprint = load following, which add -hertz to the name;
+  /// the housing's Model/Housing fixed-interface modes and Model/Housing
+  /// characteristic constraint modes).
   struct ModelSource
   {
     std::string config, file;

@@ -124,7 +124,6 @@ namespace fretsim::models
 
   ModelSource ring_model_source(const app::SceneParameters &par)
   {
-    namespace fs       = std::filesystem;
     ModelSource source = model_source(par, "Model/Reduction configuration", "Model/Model file");
     // The basis sizes over the configuration's: a study of D_max against the
     // ring's basis is one `--set` per run, each model in its own file.

@@ -200,9 +200,9 @@ namespace fretsim::coupling
     /// residual. False if it did not converge.
     bool conjugate_gradients(contact::Field &r, contact::Field &x, double inner, std::size_t &convolutions)
     {
-      // The vector operations fused into four passes over the grid per
+      // The vector operations fused into few passes over the grid per
       // iteration (they cost as much as the two convolutions when each is a
-      // pass of its own); every sum in the order of the cells, as before.
+      // pass of its own); every sum in the order of the cells.
       constexpr int     max_cg = 500;
       const std::size_t cells  = grid.size();
       const bool        closed = !closure_diagonal.empty();
@@ -238,12 +238,10 @@ namespace fretsim::coupling
         {
           if (largest <= inner)
             return true;
-          ++convolutions;
-          compliance.apply(search, image);
+          apply(search, image, convolutions);
           double curvature = 0.0;
           for (std::size_t c = 0; c < cells; ++c)
             {
-              image[c] += layer_compliance * search[c];
               if (closed)
                 image[c] += closure_diagonal[c] * search[c];
               curvature += on[c] ? search[c] * image[c] : 0.0;

@@ -71,6 +71,18 @@ namespace fretsim::coupling
     std::vector<std::size_t>   last_loaded;
     std::vector<unsigned char> last_known; ///< per grid cell: in last_loaded
     std::size_t              last_columns = 0;
+    /// pressure_change's answers since the last closure solve, on the cells
+    /// then loaded: the next solve starts from the combination of them whose
+    /// approach changes best make up its own (Newton's update is GMRES's
+    /// combination of the products it took them for).
+    struct Changes
+    {
+      contact::Field              approach; ///< b of the last closure solve
+      std::vector<std::size_t>    cells;
+      std::vector<Eigen::VectorXd> by_approach, by_pressure;
+    } changes;
+    /// Starts the closure solve for b from p + Σ c_k Δp_k (see Changes).
+    void predict_from_changes(const contact::Field &b, contact::Field &p) const;
 
     /// Readies the last sensitivity's store (the conjugate gradients' start)
     /// for `columns` columns; emptied when their number changes.
@@ -132,6 +144,10 @@ namespace fretsim::coupling
           deepest = std::max(deepest, value);
         }
       closure_diagonal.clear();
+      predict_from_changes(b, p);
+      changes.by_approach.clear();
+      changes.by_pressure.clear();
+      changes.approach = b;
       if (deepest - offset < -closure_cut * decay)
         { // every cell open beyond the tail's cut
           std::fill(p.begin(), p.end(), 0.0);
@@ -285,9 +301,30 @@ namespace fretsim::coupling
       std::size_t convolutions = 0;
       if (!conjugate_gradients(residual, change, relative_tolerance * largest, convolutions))
         throw std::runtime_error("local compliance: the pressure's change did not converge");
+      if (closure_pressure > 0.0 && changes.by_approach.size() < max_changes)
+        {
+          if (changes.by_approach.empty())
+            {
+              changes.cells.clear();
+              for (std::size_t c = 0; c < cells; ++c)
+                if (on[c])
+                  changes.cells.push_back(c);
+            }
+          const std::size_t loaded = changes.cells.size();
+          Eigen::VectorXd   db(loaded), dp(loaded);
+          for (std::size_t k = 0; k < loaded; ++k)
+            {
+              db[k] = approach_change[changes.cells[k]];
+              dp[k] = change[changes.cells[k]];
+            }
+          changes.by_approach.push_back(std::move(db));
+          changes.by_pressure.push_back(std::move(dp));
+        }
       ++statistics.changes;
       statistics.change_convolutions += convolutions;
     }
+
+    static constexpr std::size_t max_changes = 40; ///< GMRES's most vectors
 
     /// The closure's compliance D of cell c at the last solve [m/Pa].
     double closure_at(std::size_t c) const { return closure_diagonal.empty() ? 0.0 : closure_diagonal[c]; }
@@ -580,6 +617,36 @@ namespace fretsim::coupling
   double LocalCompliance::structural_asymmetry() const { return impl->structural_asymmetry; }
 
   const std::vector<double> &LocalCompliance::completion_by_wavenumber() const { return impl->completion_share; }
+
+  void LocalCompliance::Impl::predict_from_changes(const contact::Field &b, contact::Field &p) const
+  {
+    const std::size_t columns = changes.by_approach.size(), loaded = changes.cells.size();
+    if (columns == 0 || changes.approach.size() != b.size())
+      return;
+    Eigen::MatrixXd approach(loaded, columns);
+    Eigen::VectorXd wanted(loaded);
+    for (std::size_t k = 0; k < columns; ++k)
+      approach.col(k) = changes.by_approach[k];
+    for (std::size_t k = 0; k < loaded; ++k)
+      wanted[k] = b[changes.cells[k]] - changes.approach[changes.cells[k]];
+    const double wanted_norm = wanted.norm();
+    if (!(wanted_norm > 0.0))
+      return;
+    const Eigen::VectorXd weight = approach.colPivHouseholderQr().solve(wanted);
+    // Only an update that lies in their span (else the plain start).
+    if (!weight.allFinite() || (approach * weight - wanted).norm() > 0.1 * wanted_norm)
+      return;
+    Eigen::VectorXd change = Eigen::VectorXd::Zero(loaded);
+    for (std::size_t k = 0; k < columns; ++k)
+      change += weight[k] * changes.by_pressure[k];
+    for (std::size_t k = 0; k < loaded; ++k)
+      {
+        double &cell = p[changes.cells[k]];
+        if (!(cell > 0.0))
+          continue;
+        cell = std::max(cell + change[k], 0.1 * cell);
+      }
+  }
 
   LocalCompliance::~LocalCompliance() = default;
 

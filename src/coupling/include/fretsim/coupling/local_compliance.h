@@ -92,8 +92,11 @@ namespace fretsim::coupling
     /// 1e-7 × max b of zero on the loaded cells (and no open cell
     /// penetrates by more). With a closure pressure (set_closure_pressure),
     /// Newton's method on the closure's law instead, to the same tolerance
-    /// (1e-7 × max(max |b|, δ)) on every cell. Returns the convolutions;
-    /// throws std::runtime_error if it does not converge.
+    /// (1e-7 × max(max |b|, δ)) on every cell, started from `pressure` moved
+    /// by the pressure changes asked for since the last solve in the
+    /// combination whose approach changes make up b's change (when they
+    /// do, within 10 %: Newton's update in GMRES's span). Returns the
+    /// convolutions; throws std::runtime_error if it does not converge.
     int solve(const contact::Field &structural_penetration, contact::Field &pressure);
 
     /// The layer's closure (default: sharp, the complementarity above).

@@ -78,12 +78,14 @@ namespace fretsim::contact
     /// over jj < ny, K_(j,jj) the row pair(j, jj) of `kernel_rows`.
     ///
     /// A kernel even in x (Love's: the ring interface's hot path) has real
-    /// spectra, stored with each value twice so that a plain product scales
-    /// (re, im). Eight doubles at a time in GCC's vector extension, so that
-    /// the sums stay in registers (summing whole rows into the result
-    /// re-reads and re-writes it ny times: half as fast). Compiled also for
-    /// AVX2, chosen at run time: the same operations on wider registers and
-    /// no FMA contraction, so the same result to the last bit.
+    /// spectra, one value per frequency, each spread over its frequency's
+    /// (re, im) by a shuffle: half the bytes of a (re, im) kernel, which
+    /// bounds this loop (its rows come from the cache, not registers). Eight
+    /// doubles at a time in GCC's vector extension, so that the sums stay in
+    /// registers (summing whole rows into the result re-reads and re-writes
+    /// it ny times: half as fast). Compiled also for AVX2, chosen at run
+    /// time: the same operations on wider registers and no FMA contraction,
+    /// so the same result to the last bit.
     __attribute__((target_clones("avx2", "default"))) void
     sum_rows_real_kernel(const double *kernel_rows, const KernelRows &pair, const double *load, double *out, int ny,
                          std::size_t values, int first_row, int end_row)
@@ -91,21 +93,25 @@ namespace fretsim::contact
       // four doubles: one AVX or two SSE registers; loads need no alignment
       using Quad          = double __attribute__((vector_size(32)));
       using UnalignedQuad = double __attribute__((vector_size(32), aligned(8)));
+      using Lanes         = long long __attribute__((vector_size(32)));
       constexpr std::size_t block = 8;
-      const std::size_t     whole = values - values % block;
-      const auto row = [values](auto *rows, int r) { return rows + static_cast<std::size_t>(r) * values; };
+      const std::size_t     whole = values - values % block, frequencies = values / 2;
+      const auto load_row   = [values](auto *rows, int r) { return rows + static_cast<std::size_t>(r) * values; };
+      const auto kernel_row = [&](int j, int jj) {
+        return kernel_rows + static_cast<std::size_t>(pair(j, jj)) * frequencies;
+      };
       for (int j = first_row; j < end_row; ++j)
         {
-          double *row_out = row(out, j);
+          double *row_out = load_row(out, j);
           for (std::size_t first = 0; first < whole; first += block)
             {
               Quad low = {}, high = {};
               for (int jj = 0; jj < ny; ++jj)
                 {
-                  const auto *k = reinterpret_cast<const UnalignedQuad *>(row(kernel_rows, pair(j, jj)) + first);
-                  const auto *u = reinterpret_cast<const UnalignedQuad *>(row(load, jj) + first);
-                  low += Quad(k[0]) * Quad(u[0]);
-                  high += Quad(k[1]) * Quad(u[1]);
+                  const Quad  k = *reinterpret_cast<const UnalignedQuad *>(kernel_row(j, jj) + first / 2);
+                  const auto *u = reinterpret_cast<const UnalignedQuad *>(load_row(load, jj) + first);
+                  low += __builtin_shuffle(k, Lanes{0, 0, 1, 1}) * Quad(u[0]);
+                  high += __builtin_shuffle(k, Lanes{2, 2, 3, 3}) * Quad(u[1]);
                 }
               *reinterpret_cast<UnalignedQuad *>(row_out + first)     = low;
               *reinterpret_cast<UnalignedQuad *>(row_out + first + 4) = high;
@@ -114,7 +120,7 @@ namespace fretsim::contact
             {
               double sum = 0.0;
               for (int jj = 0; jj < ny; ++jj)
-                sum += row(kernel_rows, pair(j, jj))[n] * row(load, jj)[n];
+                sum += kernel_row(j, jj)[n / 2] * load_row(load, jj)[n];
               row_out[n] = sum;
             }
         }
@@ -185,8 +191,8 @@ namespace fretsim::contact
     /// Both already divided by the transform's size (FFTW's c2r is
     /// unnormalised).
     std::vector<std::complex<double>> kernel_spectrum;
-    /// Rows, kernel even in x (Love's normal kernel): the spectra are real;
-    /// each value twice, to scale the interleaved (re, im) of the load's.
+    /// Rows, kernel even in x (Love's normal kernel): the spectra are real,
+    /// [kernel_rows][spectrum_nx].
     std::vector<double> real_row_spectrum;
     bool                real_rows = false;
 
@@ -488,8 +494,7 @@ namespace fretsim::contact
         if (d.real_rows)
           {
             for (const auto &value : d.kernel_spectrum)
-              for (int part = 0; part < 2; ++part)
-                d.real_row_spectrum.push_back(value.real());
+              d.real_row_spectrum.push_back(value.real());
             d.kernel_spectrum = {};
           }
       }
@@ -543,7 +548,7 @@ namespace fretsim::contact
     // K's spectrum as applied (the stored spectra carry FFTW's 1/nx).
     const auto spectrum = [&](int row, int k) -> std::complex<double> {
       const std::size_t at = static_cast<std::size_t>(row) * frequencies + k;
-      return static_cast<double>(nx) * (d.real_rows ? std::complex<double>(d.real_row_spectrum[2 * at], 0.0)
+      return static_cast<double>(nx) * (d.real_rows ? std::complex<double>(d.real_row_spectrum[at], 0.0)
                                                      : d.kernel_spectrum[at]);
     };
     // The inverse's spectrum per frequency, [pair][frequency].

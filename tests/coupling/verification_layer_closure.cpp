@@ -74,6 +74,22 @@ namespace
 
   double largest(const contact::Field &field) { return *std::max_element(field.begin(), field.end()); }
 
+  /// Three approach changes on the cells carrying pressure p: uniform, cos θ
+  /// and sin 3θ.
+  std::vector<contact::Field> loaded_shapes(const contact::SurfaceGrid &grid, const contact::Field &p)
+  {
+    std::vector<contact::Field> shapes(3, contact::Field(grid.size(), 0.0));
+    for (std::size_t c = 0; c < grid.size(); ++c)
+      if (p[c] > 0.0)
+        {
+          const double theta = grid.x(static_cast<int>(c % grid.nx)) / radius;
+          shapes[0][c]       = 1.0;
+          shapes[1][c]       = std::cos(theta);
+          shapes[2][c]       = std::sin(3.0 * theta);
+        }
+    return shapes;
+  }
+
   /// A random ring of 5 coordinates with a residual flexibility (Love's
   /// coefficients as its table), for the interface's derivatives.
   ReducedRing closure_ring()
@@ -254,15 +270,8 @@ TEST(LayerClosure, ItsPressureChangeIsTheSolvesDerivative)
   const auto   b     = cosine_penetration(grid);
   auto         local = closure(grid, 3e7);
   const auto   p     = solved(*local, b);
-  std::vector<contact::Field> shapes(3, contact::Field(grid.size(), 0.0)), tight(3), loose(3);
-  for (std::size_t c = 0; c < grid.size(); ++c)
-    if (p[c] > 0.0)
-      {
-        const double theta = grid.x(static_cast<int>(c % grid.nx)) / radius;
-        shapes[0][c]       = 1.0;
-        shapes[1][c]       = std::cos(theta);
-        shapes[2][c]       = std::sin(3.0 * theta);
-      }
+  const auto shapes = loaded_shapes(grid, p);
+  std::vector<contact::Field> tight(3), loose(3);
   for (std::size_t j = 0; j < shapes.size(); ++j) // all at the last solve's state, before the differences' solves
     {
       local->pressure_change(p, shapes[j], tight[j], 1e-6);
@@ -308,15 +317,8 @@ TEST(LayerClosure, ItsSolveStartsFromThePressureChangesAskedFor)
   auto       with = closure(grid, 3e7), without = closure(grid, 3e7);
   const auto p    = solved(*with, b);
   ASSERT_EQ(p, solved(*without, b));
-  std::vector<contact::Field> shapes(3, contact::Field(grid.size(), 0.0)), changes(3);
-  for (std::size_t c = 0; c < grid.size(); ++c)
-    if (p[c] > 0.0)
-      {
-        const double theta = grid.x(static_cast<int>(c % grid.nx)) / radius;
-        shapes[0][c]       = 1.0;
-        shapes[1][c]       = std::cos(theta);
-        shapes[2][c]       = std::sin(3.0 * theta);
-      }
+  const auto shapes = loaded_shapes(grid, p);
+  std::vector<contact::Field> changes(3);
   const auto moved = [&](const std::vector<double> &weights, const contact::Field &from) {
     contact::Field to = from;
     for (std::size_t c = 0; c < grid.size(); ++c)

@@ -30,10 +30,38 @@ namespace fretsim::contact
     std::fill(tau_y.begin(), tau_y.end(), 0.0);
   }
 
-  BristleStep bristle_step(double tau_x, double tau_y, double stiffness, double mu_p, double slip_x, double slip_y)
+  namespace
+  {
+    /// φ(λ) = (1 − e^(−λ))/λ and its derivative, by series near 0.
+    double phi(double lambda) { return lambda > 1e-8 ? -std::expm1(-lambda) / lambda : 1.0 - 0.5 * lambda; }
+    double phi_derivative(double lambda)
+    {
+      return lambda > 1e-3 ? (std::exp(-lambda) * (1.0 + lambda) - 1.0) / (lambda * lambda)
+                           : -0.5 + lambda / 3.0 - lambda * lambda / 8.0;
+    }
+  } // namespace
+
+  BristleStep bristle_step(double tau_x, double tau_y, double stiffness, double mu_p, double slip_x, double slip_y,
+                           BristleUpdate update)
   {
     if (!(mu_p > 0.0))
       return {0.0, 0.0}; // no pressure or no friction: no traction can be transmitted
+    if (update == BristleUpdate::exponential)
+      {
+        const double lambda = stiffness * std::hypot(slip_x, slip_y) / mu_p;
+        BristleStep  next{0.0, 0.0};
+        if (std::isfinite(lambda))
+          {
+            const double decay = std::exp(-lambda), along = stiffness * phi(lambda);
+            next               = {decay * tau_x + along * slip_x, decay * tau_y + along * slip_y};
+          }
+        else // k |ds| overflowed: full slip along ds
+          next = {mu_p * slip_x / std::hypot(slip_x, slip_y), mu_p * slip_y / std::hypot(slip_x, slip_y)};
+        const double magnitude = std::hypot(next.x, next.y); // a traction above a lowered limit
+        if (magnitude > mu_p)
+          next = {next.x * mu_p / magnitude, next.y * mu_p / magnitude};
+        return next;
+      }
     // Implicit Euler of dtau = k ds - k |ds| tau/(mu p). Written with the slip
     // increment rather than v dt so that a prescribed displacement history is
     // followed exactly. The division form keeps |tau| <= mu p for any k |ds|:
@@ -53,16 +81,55 @@ namespace fretsim::contact
 
   BristleStep bristle_step(double tau_x, double tau_y, double stiffness, double friction_coefficient,
                            double pressure, double slip_x, double slip_y, bool sliding_on,
-                           BristleStepDerivatives &derivatives)
+                           BristleStepDerivatives &derivatives, BristleUpdate update)
   {
     const double mu_p = friction_coefficient * pressure;
-    const BristleStep next = bristle_step(tau_x, tau_y, stiffness, mu_p, slip_x, slip_y);
+    const BristleStep next = bristle_step(tau_x, tau_y, stiffness, mu_p, slip_x, slip_y, update);
     derivatives            = {};
     if (!(mu_p > 0.0))
       return next;
     const double          k = stiffness, mu = friction_coefficient;
     const Eigen::Vector2d start(tau_x, tau_y), slip(slip_x, slip_y);
     const double          slip_length = slip.norm();
+    const auto store = [&derivatives](const Eigen::Matrix2d &by_slip, const Eigen::Vector2d &by_pressure,
+                                      const Eigen::Vector2d &by_stiffness) {
+      for (int i = 0; i < 2; ++i)
+        {
+          derivatives.by_slip[i][0]   = by_slip(i, 0);
+          derivatives.by_slip[i][1]   = by_slip(i, 1);
+          derivatives.by_pressure[i]  = by_pressure[i];
+          derivatives.by_stiffness[i] = by_stiffness[i];
+        }
+    };
+    if (update == BristleUpdate::exponential)
+      {
+        const double          lambda = k * slip_length / mu_p, decay = std::exp(-lambda);
+        const Eigen::Vector2d unclamped = decay * start + k * phi(lambda) * slip;
+        // u = e^(−λ) τ + k φ(λ) ds: ∂u/∂λ = −e^(−λ) τ + k φ'(λ) ds, and λ
+        // moves with |ds| (along ds), μp (as −λ/μp) and k (as λ/k).
+        const Eigen::Vector2d by_lambda = -decay * start + k * phi_derivative(lambda) * slip;
+        Eigen::Matrix2d       by_slip   = k * phi(lambda) * Eigen::Matrix2d::Identity();
+        Eigen::Vector2d       by_pressure = Eigen::Vector2d::Zero(), by_stiffness = phi(lambda) * slip;
+        // At ds = 0 as the implicit Euler step below (a sliding cell slides on).
+        if (sliding_on && k * slip_length <= 1e-2 * mu_p && start.norm() > 0.0)
+          by_slip -= k / mu_p * start * start.normalized().transpose();
+        else if (slip_length > 0.0)
+          {
+            by_slip += k / mu_p * by_lambda * (slip / slip_length).transpose();
+            by_pressure = -mu * lambda / mu_p * by_lambda;
+            by_stiffness += lambda / k * by_lambda;
+          }
+        if (unclamped.norm() > mu_p)
+          { // the Coulomb clamp (a lowered limit): τ' = μp u/|u|
+            const Eigen::Vector2d unit      = unclamped.normalized();
+            const Eigen::Matrix2d onto      = mu_p / unclamped.norm() *
+                                         (Eigen::Matrix2d::Identity() - unit * unit.transpose());
+            store(onto * by_slip, mu * unit + onto * by_pressure, onto * by_stiffness);
+          }
+        else
+          store(by_slip, by_pressure, by_stiffness);
+        return next;
+      }
     const double          denominator = 1.0 + k * slip_length / mu_p;
     const Eigen::Vector2d numerator   = start + k * slip;
     Eigen::Matrix2d       by_slip;
@@ -91,13 +158,7 @@ namespace fretsim::contact
             by_pressure = (mu * k * slip_length / (mu_p * mu_p * denominator * denominator)) * numerator;
           }
       }
-    for (int i = 0; i < 2; ++i)
-      {
-        derivatives.by_slip[i][0] = by_slip(i, 0);
-        derivatives.by_slip[i][1] = by_slip(i, 1);
-        derivatives.by_pressure[i]  = by_pressure[i];
-        derivatives.by_stiffness[i] = by_stiffness[i];
-      }
+    store(by_slip, by_pressure, by_stiffness);
     return next;
   }
 

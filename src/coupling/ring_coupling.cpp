@@ -654,7 +654,7 @@ namespace fretsim::coupling
             {
               contact::BristleStepDerivatives derivatives;
               const auto next = contact::bristle_step(tau_x[c], tau_y[c], k, mu, p, ds_x, ds_y, slipping[c] != 0,
-                                                      derivatives);
+                                                      derivatives, settings.bristle_update);
               step.traction = Eigen::Vector2d(next.x, next.y);
               step.by_slip =
                 Eigen::Map<const Eigen::Matrix<double, 2, 2, Eigen::RowMajor>>(&derivatives.by_slip[0][0]);
@@ -663,7 +663,7 @@ namespace fretsim::coupling
             }
           else
             {
-              const auto next = contact::bristle_step(tau_x[c], tau_y[c], k, mu_p, ds_x, ds_y);
+              const auto next = contact::bristle_step(tau_x[c], tau_y[c], k, mu_p, ds_x, ds_y, settings.bristle_update);
               step.traction   = Eigen::Vector2d(next.x, next.y);
             }
         }

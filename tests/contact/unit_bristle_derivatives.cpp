@@ -23,12 +23,12 @@ namespace
 
   /// max |analytic - central difference| / max |analytic| over ∂τ'/∂ds,
   /// ∂τ'/∂p and ∂τ'/∂k.
-  double derivative_error(const State &s)
+  double derivative_error(const State &s, BristleUpdate update = BristleUpdate::implicit_euler)
   {
     BristleStepDerivatives analytic;
-    bristle_step(s.tau_x, s.tau_y, stiffness, mu, s.pressure, s.slip_x, s.slip_y, false, analytic);
+    bristle_step(s.tau_x, s.tau_y, stiffness, mu, s.pressure, s.slip_x, s.slip_y, false, analytic, update);
     const auto law = [&](double pressure, double slip_x, double slip_y, double k = stiffness) {
-      return bristle_step(s.tau_x, s.tau_y, k, mu * pressure, slip_x, slip_y);
+      return bristle_step(s.tau_x, s.tau_y, k, mu * pressure, slip_x, slip_y, update);
     };
     // Steps ~1e-6 of the slip and the pressure: the law is smooth in each regime.
     const double h_slip = 1e-6 * std::hypot(s.slip_x, s.slip_y), h_pressure = 1e-6 * s.pressure;
@@ -85,6 +85,15 @@ TEST(BristleDerivatives, SlipPressureAndStiffnessDerivativesMatchFiniteDifferenc
 {
   // The stored traction exceeds the new limit (the pressure dropped): τ' = μp n/|n|.
   EXPECT_LT(derivative_error({3e7, 2e7, 1e8, 1e-9, 2e-9}), tolerance);
+}
+
+TEST(BristleDerivatives, TheExponentialUpdatesDerivativesMatchFiniteDifferences)
+{
+  // The same three regimes (sticking, λ = k|ds|/(μp) ≈ 0.04; slipping, λ ≈ 1.3;
+  // the Coulomb clamp), and a slip deep into saturation (λ ≈ 8).
+  for (const State &state : {State{2e6, -1e6, 1e8, 1e-9, 5e-10}, State{5e6, 3e6, 1e8, 3e-7, -2e-7},
+                             State{3e7, 2e7, 1e8, 1e-9, 2e-9}, State{5e6, 3e6, 1e8, 2e-6, 8e-7}})
+    EXPECT_LT(derivative_error(state, BristleUpdate::exponential), tolerance) << state.slip_x;
 }
 
 TEST(BristleDerivatives, NoLoadNoTractionAndNoDerivative)

@@ -20,6 +20,7 @@
 #include <cstdio>
 #include <memory>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 using namespace fretsim;
@@ -395,11 +396,15 @@ TEST(LayerClosure, TheInterfaceJacobianCarriesTheClosuresSensitivity)
   const ClosureStates states;
   const auto         &q0 = states.q0, &q = states.q;
   const std::vector<double> v(5, 0.0);
-  // Both in-step bristle laws: each carries the faded stiffness's ∂k/∂p
-  // (left out: 1.2e-2 with the implicit Euler law).
-  for (const auto law : {InStepBristleLaw::implicit_euler, InStepBristleLaw::linearised})
+  // Both in-step bristle laws, and the exponential update: each carries the
+  // faded stiffness's ∂k/∂p (left out: 1.2e-2 with the implicit Euler law).
+  using Update = contact::BristleUpdate;
+  for (const auto &[law, update] : {std::pair{InStepBristleLaw::implicit_euler, Update::implicit_euler},
+                                    std::pair{InStepBristleLaw::linearised, Update::implicit_euler},
+                                    std::pair{InStepBristleLaw::implicit_euler, Update::exponential}})
     {
       settings.in_step_bristle_law = law;
+      settings.bristle_update      = update;
       InterfaceContact    contact(ring, settings);
       std::vector<double> f(5, 0.0), dq(25, 0.0), dv(25, 0.0);
       contact.accept(q0.data(), v.data());
@@ -419,10 +424,11 @@ TEST(LayerClosure, TheInterfaceJacobianCarriesTheClosuresSensitivity)
       ASSERT_GT(tail, 5u);
       ASSERT_GT(open, 10u);
       const double error = fretsim::coupling::testing::jacobian_error(5, q, v, 0, 1e-13, force_of(contact), dq);
-      std::printf("interface Jacobian with the closure, %s law, against central differences: %.3g\n",
-                  law == InStepBristleLaw::linearised ? "linearised" : "implicit Euler", error);
+      std::printf("interface Jacobian with the closure, %s law, %s update, against central differences: %.3g\n",
+                  law == InStepBristleLaw::linearised ? "linearised" : "implicit Euler",
+                  update == Update::exponential ? "exponential" : "implicit Euler", error);
       // measured 4e-6 (7e-4 and 3e-4 at fits of 0 and 5e-11 m, other cells
-      // at the tail's bends) with either law
+      // at the tail's bends) with each
       EXPECT_LT(error, 1e-4);
     }
 }

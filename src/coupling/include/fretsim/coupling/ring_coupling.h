@@ -34,6 +34,7 @@
 //    wall, not the sub-millimetre indentation, which they therefore leave to Hertz.
 #include <fretsim/coupling/local_compliance.h>
 
+#include <fretsim/contact/bristle.h>
 #include <fretsim/contact/surface_grid.h>
 
 #include <algorithm>
@@ -193,6 +194,10 @@ namespace fretsim::coupling
     /// relative to each right-hand side (LocalCompliance) [-].
     double sensitivity_tolerance = LocalCompliance::default_sensitivity_tolerance;
     InStepBristleLaw in_step_bristle_law = InStepBristleLaw::implicit_euler;
+    /// How the bristle law steps over a slip increment, within the step and in
+    /// the update after it (contact::BristleUpdate): the paper's implicit
+    /// Euler or the law's exact exponential.
+    contact::BristleUpdate bristle_update = contact::BristleUpdate::implicit_euler;
   };
 
   /// Loads and their derivatives at a trial state, added into caller arrays:
@@ -216,6 +221,7 @@ namespace fretsim::coupling
   /// slip since the last accepted step:
   ///     τ(q) = (τ_n + k ds(q)) / (1 + k |ds(q)| / (μ p(q))),
   ///     ds = -(u_t(q) - u_t,n)   (the housing's shift relative to the ring),
+  /// or by the law's exact exponential step (InterfaceSettings::bristle_update),
   /// k = k_t, or k_t (1 − e^(−p/p_c)) under the layer's closure
   /// (InterfaceSettings::bristles_follow_closure).
   /// accept() applies exactly this update after every accepted step. Within a

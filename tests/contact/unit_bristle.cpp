@@ -113,6 +113,35 @@ TEST(Bristle, TheExponentialUpdateIsTheLawsOwnAnswerHoweverTheSlipIsDivided)
   EXPECT_LT(errors.back(), 1e-3);
 }
 
+TEST(Bristle, TheExponentialUpdateStaysFiniteAndWithinCoulombAtExtremes)
+{
+  // Stiffness 1e8..1e26 Pa/m, Coulomb limits 1e-3..1e9 Pa, slips 1e-15..1e-2 m
+  // in turning directions, starting tractions up to twice the limit (a
+  // pressure drop): the traction and its derivatives finite, |τ'| <= μp to
+  // round-off.
+  double worst = 0.0;
+  bool   finite = true;
+  for (const double k : {1e8, 1e14, 1e20, 1e26})
+    for (const double mu_p : {1e-3, 1.0, 1e6, 1e9})
+      for (const double slip : {1e-15, 1e-9, 1e-6, 1e-2})
+        for (int turn = 0; turn < 8; ++turn)
+          {
+            const double angle = 0.8 * turn, start = 0.25 * turn * mu_p;
+            const auto   next = bristle_step(start, -0.5 * start, k, mu_p, slip * std::cos(angle), slip * std::sin(angle),
+                                             BristleUpdate::exponential);
+            BristleStepDerivatives derivatives;
+            bristle_step(start, -0.5 * start, k, 1.0, mu_p, slip * std::cos(angle), slip * std::sin(angle), turn % 2,
+                         derivatives, BristleUpdate::exponential);
+            finite = finite && std::isfinite(next.x) && std::isfinite(next.y);
+            for (const auto &row : derivatives.by_slip)
+              finite = finite && std::isfinite(row[0]) && std::isfinite(row[1]);
+            finite = finite && std::isfinite(derivatives.by_pressure[0]) && std::isfinite(derivatives.by_stiffness[1]);
+            worst  = std::max(worst, std::hypot(next.x, next.y) / mu_p);
+          }
+  EXPECT_TRUE(finite);
+  EXPECT_LE(worst, 1.0 + 1e-12);
+}
+
 TEST(Bristle, MindlinCalibrationGivesMindlinInitialStiffness)
 {
   // k = 8 G*/(pi a): k * pi a^2 = 8 G* a (docs/theory.md §2.3). On the grid the

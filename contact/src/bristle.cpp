@@ -103,13 +103,13 @@ namespace fretsim::contact
     };
     if (update == BristleUpdate::exponential)
       {
-        const double          lambda = k * slip_length / mu_p, decay = std::exp(-lambda);
-        const Eigen::Vector2d unclamped = decay * start + k * phi(lambda) * slip;
+        const double          lambda = k * slip_length / mu_p, decay = std::exp(-lambda), share = phi(lambda);
+        const Eigen::Vector2d unclamped = decay * start + k * share * slip;
         // u = e^(−λ) τ + k φ(λ) ds: ∂u/∂λ = −e^(−λ) τ + k φ'(λ) ds, and λ
         // moves with |ds| (along ds), μp (as −λ/μp) and k (as λ/k).
         const Eigen::Vector2d by_lambda = -decay * start + k * phi_derivative(lambda) * slip;
-        Eigen::Matrix2d       by_slip   = k * phi(lambda) * Eigen::Matrix2d::Identity();
-        Eigen::Vector2d       by_pressure = Eigen::Vector2d::Zero(), by_stiffness = phi(lambda) * slip;
+        Eigen::Matrix2d       by_slip   = k * share * Eigen::Matrix2d::Identity();
+        Eigen::Vector2d       by_pressure = Eigen::Vector2d::Zero(), by_stiffness = share * slip;
         // At ds = 0 as the implicit Euler step below (a sliding cell slides on).
         if (sliding_on && k * slip_length <= 1e-2 * mu_p && start.norm() > 0.0)
           by_slip -= k / mu_p * start * start.normalized().transpose();

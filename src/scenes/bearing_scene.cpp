@@ -207,10 +207,11 @@ namespace fretsim::scenes
                         "true|false"),
         Spec::selection("Interface/In-step bristle law", "implicit Euler",
                         "What the integrator sees of the bristles within a step; after every step the bristle "
-                        "update (Interface/Bristle update) is committed either way. implicit Euler: that same law (bristles and "
-                        "ring in one implicit step); linearised: a sticking cell a spring capped at mu p, a sliding "
-                        "one at its ratio tau/p, a splitting error that the step size does not cure (D_max -1.8 % on "
-                        "the paper case, -15 % on a coarse ring) and 3.5x the steps there: docs/bearing.md [-].",
+                        "update (Interface/Bristle update) is committed either way. implicit Euler: that same law "
+                        "(bristles and ring in one implicit step); linearised: a sticking cell a spring capped at mu "
+                        "p, a sliding one at its ratio tau/p, a splitting error that the step size does not cure "
+                        "(D_max -1.8 % on the paper case, -15 % on a coarse ring) and 3.5x the steps there: "
+                        "docs/bearing.md [-].",
                         "linearised|implicit Euler"),
         Spec::selection("Interface/Bristle update", "implicit Euler",
                         "How the bristle law steps over a step's slip, within the step and in the update after it. "

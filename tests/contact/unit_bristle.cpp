@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <utility>
 #include <vector>
 
@@ -85,8 +86,8 @@ TEST(Bristle, TheExponentialUpdateIsTheLawsOwnAnswerHoweverTheSlipIsDivided)
   // step, and the same in two unequal ones (to round-off). Along a path that
   // turns (3 mu p/k out, then 1.2 mu p/k back and 0.8 mu p/k across) it
   // agrees, a leg per step, with implicit Euler's limit as each leg's
-  // substeps are refined: the error halves with them (first order), to
-  // 1e-3 of mu p at 2 000 substeps a leg.
+  // substeps are refined: the error halves with them (first order; measured
+  // 7.0e-4 of mu p at 250 substeps a leg, 8.8e-5 at 2 000: bound 2e-4).
   const double mu_p = 500e6, k = 1e14, unit = mu_p / k;
   const double exact = mu_p * (1.0 - std::exp(-3.0));
   const auto   whole = bristle_step(0.0, 0.0, k, mu_p, 3.0 * unit, 0.0, BristleUpdate::exponential);
@@ -108,9 +109,11 @@ TEST(Bristle, TheExponentialUpdateIsTheLawsOwnAnswerHoweverTheSlipIsDivided)
           euler = bristle_step(euler.x, euler.y, k, mu_p, x / substeps, y / substeps);
       errors.push_back(std::hypot(euler.x - exponential.x, euler.y - exponential.y) / mu_p);
     }
+  std::printf("implicit Euler against the exponential steps at 250..2000 substeps a leg: %.3g %.3g %.3g %.3g of mu p\n",
+              errors[0], errors[1], errors[2], errors[3]);
   for (std::size_t i = 1; i < errors.size(); ++i)
     EXPECT_NEAR(std::log2(errors[i - 1] / errors[i]), 1.0, 0.1);
-  EXPECT_LT(errors.back(), 1e-3);
+  EXPECT_LT(errors.back(), 2e-4);
 }
 
 TEST(Bristle, TheExponentialUpdateStaysFiniteAndWithinCoulombAtExtremes)

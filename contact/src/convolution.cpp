@@ -33,6 +33,12 @@ namespace fretsim::contact
     };
     using RealBuffer    = std::unique_ptr<double[], FftwFree>;
     using ComplexBuffer = std::unique_ptr<fftw_complex[], FftwFree>;
+    struct FftwfFree
+    {
+      void operator()(void *pointer) const { fftwf_free(pointer); }
+    };
+    using SingleRealBuffer    = std::unique_ptr<float[], FftwfFree>;
+    using SingleComplexBuffer = std::unique_ptr<fftwf_complex[], FftwfFree>;
 
     RealBuffer allocate_real(std::size_t n)
     {
@@ -145,6 +151,65 @@ namespace fretsim::contact
             row(out, j)[n + 1] = im;
           }
     }
+    /// sum_rows_real_kernel in single precision: eight floats at a time,
+    /// each kernel value spread over its frequency's (re, im).
+    __attribute__((target_clones("avx2", "default"))) void
+    sum_rows_real_kernel_single(const float *kernel_rows, const KernelRows &pair, const float *load, float *out,
+                                int ny, std::size_t values)
+    {
+      using Oct          = float __attribute__((vector_size(32)));
+      using UnalignedOct = float __attribute__((vector_size(32), aligned(4)));
+      using Lanes        = int __attribute__((vector_size(32)));
+      constexpr std::size_t block = 16;
+      const std::size_t     whole = values - values % block, frequencies = values / 2;
+      const auto kernel_row = [&](int j, int jj) {
+        return kernel_rows + static_cast<std::size_t>(pair(j, jj)) * frequencies;
+      };
+      for (int j = 0; j < ny; ++j)
+        {
+          float *row_out = out + static_cast<std::size_t>(j) * values;
+          for (std::size_t first = 0; first < whole; first += block)
+            {
+              Oct low = {}, high = {};
+              for (int jj = 0; jj < ny; ++jj)
+                {
+                  const Oct   k = *reinterpret_cast<const UnalignedOct *>(kernel_row(j, jj) + first / 2);
+                  const auto *u = reinterpret_cast<const UnalignedOct *>(load + static_cast<std::size_t>(jj) * values + first);
+                  low += __builtin_shuffle(k, Lanes{0, 0, 1, 1, 2, 2, 3, 3}) * Oct(u[0]);
+                  high += __builtin_shuffle(k, Lanes{4, 4, 5, 5, 6, 6, 7, 7}) * Oct(u[1]);
+                }
+              *reinterpret_cast<UnalignedOct *>(row_out + first)     = low;
+              *reinterpret_cast<UnalignedOct *>(row_out + first + 8) = high;
+            }
+          for (std::size_t n = whole; n < values; ++n)
+            {
+              float sum = 0.0f;
+              for (int jj = 0; jj < ny; ++jj)
+                sum += kernel_row(j, jj)[n / 2] * load[static_cast<std::size_t>(jj) * values + n];
+              row_out[n] = sum;
+            }
+        }
+    }
+
+    /// sum_rows_complex_kernel in single precision.
+    void sum_rows_complex_kernel_single(const float *kernel_rows, const KernelRows &pair, const float *load,
+                                        float *out, int ny, std::size_t values)
+    {
+      const auto row = [values](auto *rows, int r) { return rows + static_cast<std::size_t>(r) * values; };
+      for (int j = 0; j < ny; ++j)
+        for (std::size_t n = 0; n < values; n += 2)
+          {
+            float re = 0.0f, im = 0.0f;
+            for (int jj = 0; jj < ny; ++jj)
+              {
+                const float *k = row(kernel_rows, pair(j, jj)) + n, *u = row(load, jj) + n;
+                re += k[0] * u[0] - k[1] * u[1];
+                im += k[0] * u[1] + k[1] * u[0];
+              }
+            row(out, j)[n]     = re;
+            row(out, j)[n + 1] = im;
+          }
+    }
   } // namespace
 
   namespace influence
@@ -234,6 +299,64 @@ namespace fretsim::contact
     static constexpr std::size_t    workspace_slots = 4;
     mutable std::array<WorkspaceSlot, workspace_slots> workspaces;
 
+    /// Single precision (rows only): the row spectra rounded to float
+    /// ([kernel_rows][spectrum_nx], real or interleaved (re, im)), the plans
+    /// and the work arrays, as above.
+    std::vector<float> single_spectrum;
+    fftwf_plan         single_forward = nullptr, single_backward = nullptr;
+    struct SingleWorkspace
+    {
+      SingleRealBuffer    real;
+      SingleComplexBuffer spectrum, result_spectrum;
+    };
+    struct SingleSlot
+    {
+      std::mutex      mutex;
+      SingleWorkspace workspace;
+    };
+    mutable std::array<SingleSlot, workspace_slots> single_workspaces;
+
+    SingleWorkspace allocate_single_workspace() const
+    {
+      SingleWorkspace w;
+      w.real.reset(fftwf_alloc_real(padded_size()));
+      w.spectrum.reset(fftwf_alloc_complex(spectrum_size()));
+      w.result_spectrum.reset(fftwf_alloc_complex(spectrum_size()));
+      if (!w.real || !w.spectrum || !w.result_spectrum)
+        throw std::bad_alloc();
+      return w;
+    }
+
+    /// convolve() in single precision, either method.
+    void convolve_single(const std::vector<float> &load, std::vector<float> &result, const SingleWorkspace &w) const
+    {
+      const int nx = grid.nx, ny = grid.ny;
+      float    *real = w.real.get();
+      std::fill(real, real + padded_size(), 0.0f);
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i)
+          real[static_cast<std::size_t>(j) * padded_nx + i] = load[grid.index(i, j)];
+      fftwf_execute_dft_r2c(single_forward, real, w.spectrum.get());
+      const auto *in = reinterpret_cast<const float *>(w.spectrum.get());
+      auto       *out = reinterpret_cast<float *>(w.result_spectrum.get());
+      if (!direct_rows)
+        for (std::size_t n = 0; n < 2 * spectrum_size(); n += 2)
+          {
+            out[n]     = single_spectrum[n] * in[n] - single_spectrum[n + 1] * in[n + 1];
+            out[n + 1] = single_spectrum[n] * in[n + 1] + single_spectrum[n + 1] * in[n];
+          }
+      else if (real_rows)
+        sum_rows_real_kernel_single(single_spectrum.data(), pair, in, out, ny, 2 * static_cast<std::size_t>(spectrum_nx));
+      else
+        sum_rows_complex_kernel_single(single_spectrum.data(), pair, in, out, ny,
+                                       2 * static_cast<std::size_t>(spectrum_nx));
+      fftwf_execute_dft_c2r(single_backward, w.result_spectrum.get(), real);
+      result.resize(grid.size());
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i)
+          result[grid.index(i, j)] = real[static_cast<std::size_t>(j) * padded_nx + i];
+    }
+
     std::size_t padded_size() const { return static_cast<std::size_t>(padded_nx) * padded_ny; }
     std::size_t spectrum_size() const { return static_cast<std::size_t>(padded_ny) * spectrum_nx; }
 
@@ -256,6 +379,8 @@ namespace fretsim::contact
     /// Plans, the kernel's table and its spectra; `fill(table)` fills the
     /// table [kernel_rows][table_nx] (pair and kernel_rows set).
     void setup(const SurfaceGrid &g, bool periodic_x, Method method, const std::function<void(std::vector<double> &)> &fill);
+    /// The single precision copies of the spectra, plans and first work arrays.
+    void setup_single();
 
     void convolve(const Field &load, Field &result, const Workspace &w) const
     {
@@ -353,6 +478,9 @@ namespace fretsim::contact
       for (fftw_plan plan : {forward, backward, part_forward[0], part_forward[1], part_backward[0], part_backward[1]})
         if (plan)
           fftw_destroy_plan(plan);
+      for (fftwf_plan plan : {single_forward, single_backward})
+        if (plan)
+          fftwf_destroy_plan(plan);
     }
   };
 
@@ -508,6 +636,39 @@ namespace fretsim::contact
         fftw_execute_dft_r2c(d.forward, real, spectrum);
         transformed(0, d.spectrum_size());
       }
+    d.setup_single();
+  }
+
+  void SurfaceConvolution::Impl::setup_single()
+  {
+    if (real_rows)
+      single_spectrum.assign(real_row_spectrum.begin(), real_row_spectrum.end());
+    else
+      for (const auto &value : kernel_spectrum)
+        {
+          single_spectrum.push_back(static_cast<float>(value.real()));
+          single_spectrum.push_back(static_cast<float>(value.imag()));
+        }
+    SingleWorkspace             planning = allocate_single_workspace();
+    std::lock_guard<std::mutex> lock(detail::fftw_planner_mutex());
+    fftwf_forget_wisdom(); // as for the double plans: the same plan whatever was planned before
+    if (direct_rows)
+      {
+        single_forward  = fftwf_plan_many_dft_r2c(1, &padded_nx, grid.ny, planning.real.get(), nullptr, 1, padded_nx,
+                                                  planning.spectrum.get(), nullptr, 1, spectrum_nx, FFTW_ESTIMATE);
+        single_backward = fftwf_plan_many_dft_c2r(1, &padded_nx, grid.ny, planning.result_spectrum.get(), nullptr, 1,
+                                                  spectrum_nx, planning.real.get(), nullptr, 1, padded_nx, FFTW_ESTIMATE);
+      }
+    else
+      {
+        single_forward  = fftwf_plan_dft_r2c_2d(padded_ny, padded_nx, planning.real.get(), planning.spectrum.get(),
+                                                FFTW_ESTIMATE);
+        single_backward = fftwf_plan_dft_c2r_2d(padded_ny, padded_nx, planning.result_spectrum.get(),
+                                                planning.real.get(), FFTW_ESTIMATE);
+      }
+    if (!single_forward || !single_backward)
+      throw std::runtime_error("SurfaceConvolution: FFTW could not create the single precision plans");
+    single_workspaces[0].workspace = std::move(planning);
   }
 
   SurfaceConvolution::~SurfaceConvolution()                                  = default;
@@ -537,6 +698,26 @@ namespace fretsim::contact
     // fftw_execute_dft_* with new arrays requires the same alignment as the
     // planning arrays, which fftw_alloc_* guarantees.
     d.convolve(load, result, d.allocate_workspace());
+  }
+
+  void SurfaceConvolution::apply(const std::vector<float> &load, std::vector<float> &result) const
+  {
+    const Impl &d = *impl;
+    if (load.size() != d.grid.size())
+      throw std::invalid_argument("SurfaceConvolution::apply: load size does not match the grid");
+    if (&load == &result)
+      throw std::invalid_argument("SurfaceConvolution::apply: load and result must be distinct");
+    for (auto &slot : d.single_workspaces)
+      {
+        std::unique_lock<std::mutex> lock(slot.mutex, std::try_to_lock);
+        if (!lock.owns_lock())
+          continue;
+        if (!slot.workspace.real)
+          slot.workspace = d.allocate_single_workspace();
+        d.convolve_single(load, result, slot.workspace);
+        return;
+      }
+    d.convolve_single(load, result, d.allocate_single_workspace());
   }
 
   SurfaceConvolution SurfaceConvolution::inverse(double shift) const

@@ -54,6 +54,8 @@ namespace fretsim::coupling
     contact::Field              response, gap, direction, masked, preconditioned; // work arrays of solve()
     // and of solve_with_closure, sized once: it runs at every right-hand side
     contact::Field              residual, step, image;
+    /// conjugate_gradients' vectors, in single precision.
+    std::vector<float>          single_x, single_r, single_z, single_search, single_image, single_masked;
     std::vector<unsigned char>  on, stiff;
     /// The layer's closure (set_closure_pressure): p_c [Pa], 0 for the sharp
     /// one, and the closure's compliance D per cell at the last solve [m/Pa]
@@ -212,9 +214,13 @@ namespace fretsim::coupling
     /// (C + I/k_n + D) x = r on the cells `on` (D the closure's, none
     /// without one), by conjugate gradients from x = 0 until the largest
     /// residual is at most `inner`; preconditioned by the FFT inverse on the
-    /// `stiff` cells and by the diagonal on the others. `r` is left as the
-    /// residual. False if it did not converge.
-    bool conjugate_gradients(contact::Field &r, contact::Field &x, double inner, std::size_t &convolutions)
+    /// `stiff` cells and by the diagonal on the others. `r` is overwritten.
+    /// False if it did not converge. In single precision (the vectors and
+    /// both convolutions; the sums in double): its callers ask for at most
+    /// two digits of the residual (a Newton step's, or the pressure's change
+    /// to 1e-2), float's rounding is 1e-7 of it, and the single convolution
+    /// takes about two thirds of the double's time.
+    bool conjugate_gradients(contact::Field &r_in, contact::Field &x_out, double inner, std::size_t &convolutions)
     {
       // The vector operations fused into few passes over the grid per
       // iteration (they cost as much as the two convolutions when each is a
@@ -222,7 +228,13 @@ namespace fretsim::coupling
       constexpr int     max_cg = 500;
       const std::size_t cells  = grid.size();
       const bool        closed = !closure_diagonal.empty();
-      contact::Field   &z = preconditioned, &search = direction;
+      for (auto *vector : {&single_x, &single_r, &single_z, &single_search, &single_image, &single_masked})
+        vector->assign(cells, 0.0f);
+      std::vector<float> &x = single_x, &r = single_r, &z = single_z, &search = single_search, &image = single_image,
+                         &masked = single_masked;
+      const auto diagonal = [&](std::size_t c) {
+        return static_cast<float>(self + layer_compliance + closure_at(c));
+      };
       // z = M⁻¹ r from `masked` (r on the stiff cells), and r·z.
       const auto precondition = [&]() {
         if (preconditioner)
@@ -236,34 +248,40 @@ namespace fretsim::coupling
         for (std::size_t c = 0; c < cells; ++c)
           {
             if (!stiff[c])
-              z[c] = on[c] ? r[c] / (self + layer_compliance + closure_at(c)) : 0.0;
-            product += on[c] ? r[c] * z[c] : 0.0;
+              z[c] = on[c] ? r[c] / diagonal(c) : 0.0f;
+            product += on[c] ? static_cast<double>(r[c]) * z[c] : 0.0;
           }
         return product;
       };
-      std::fill(x.begin(), x.end(), 0.0);
       double largest = 0.0;
       for (std::size_t c = 0; c < cells; ++c)
         {
-          masked[c] = stiff[c] ? r[c] : 0.0;
-          largest   = std::max(largest, std::abs(r[c]));
+          r[c]      = static_cast<float>(r_in[c]);
+          masked[c] = stiff[c] ? r[c] : 0.0f;
+          largest   = std::max(largest, std::abs(r_in[c]));
         }
+      const auto finish = [&](bool converged) {
+        x_out.resize(cells);
+        std::copy(x.begin(), x.end(), x_out.begin());
+        return converged;
+      };
       double product = precondition();
       search         = z; // zero off the loaded cells, as r
+      const auto layer = static_cast<float>(layer_compliance);
       for (int it = 0; it < max_cg; ++it)
         {
           if (largest <= inner)
-            return true;
-          apply(search, image, convolutions);
+            return finish(true);
+          ++convolutions;
+          compliance.apply(search, image);
           double curvature = 0.0;
           for (std::size_t c = 0; c < cells; ++c)
             {
-              if (closed)
-                image[c] += closure_diagonal[c] * search[c];
-              curvature += on[c] ? search[c] * image[c] : 0.0;
+              image[c] += (closed ? layer + static_cast<float>(closure_diagonal[c]) : layer) * search[c];
+              curvature += on[c] ? static_cast<double>(search[c]) * image[c] : 0.0;
             }
-          const double length = product / curvature;
-          largest             = 0.0;
+          const auto length = static_cast<float>(product / curvature);
+          largest            = 0.0;
           for (std::size_t c = 0; c < cells; ++c)
             {
               if (on[c])
@@ -271,15 +289,16 @@ namespace fretsim::coupling
                   x[c] += length * search[c];
                   r[c] -= length * image[c];
                 }
-              masked[c] = stiff[c] ? r[c] : 0.0;
-              largest   = std::max(largest, std::abs(r[c]));
+              masked[c] = stiff[c] ? r[c] : 0.0f;
+              largest   = std::max(largest, static_cast<double>(std::abs(r[c])));
             }
-          const double next = precondition();
+          const double next  = precondition();
+          const auto   ratio = static_cast<float>(next / product);
           for (std::size_t c = 0; c < cells; ++c)
-            search[c] = on[c] ? z[c] + next / product * search[c] : 0.0;
+            search[c] = on[c] ? z[c] + ratio * search[c] : 0.0f;
           product = next;
         }
-      return false;
+      return finish(false);
     }
 
     /// LocalCompliance::pressure_change.

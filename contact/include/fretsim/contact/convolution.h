@@ -3,6 +3,7 @@
 
 #include <functional>
 #include <memory>
+#include <vector>
 
 namespace fretsim::contact
 {
@@ -46,6 +47,11 @@ namespace fretsim::contact
 
     /// result = K * load (DC-FFT).
     void apply(const Field &load, Field &result) const;
+    /// The same in single precision (the kernel's spectra rounded to float,
+    /// transforms and sums in float): within about 1e-6 of the largest
+    /// |result|, for iterative solves that need the product to a few digits
+    /// only.
+    void apply(const std::vector<float> &load, std::vector<float> &result) const;
     /// The inverse of K + shift I on the whole grid, closed in x (periodic,
     /// rows along x): per x-frequency the ny × ny block of K's spectrum plus
     /// shift, inverted, as a convolution of its own (a row-pair kernel). The

@@ -65,9 +65,9 @@ namespace
   }
 
   /// The ring interface's grid (paper scene: 360 x 16 cells over the
-  /// circumference and the width, closed in x): the two evaluations of the
-  /// same convolution, first arg 0 two-dimensional, 1 rows along x; second
-  /// the axial cells (where SurfaceConvolution's automatic choice switches).
+  /// circumference and the width, closed in x): the evaluations of the same
+  /// convolution, first arg as listed below; second the axial cells (where
+  /// SurfaceConvolution's automatic choice switches).
   void BM_ConvolutionRingInterface(benchmark::State &state)
   {
     const SurfaceGrid grid = SurfaceGrid::centred(360, static_cast<int>(state.range(1)), M_PI * 0.04, 0.009);
@@ -78,20 +78,33 @@ namespace
       return influence::normal_displacement(di * grid.hx, dj * grid.hy, grid.hx, grid.hy, contact_modulus);
     };
     // 0: 2-D FFT, 1: rows along x, 2: the same kernel as row pairs (how
-    // the ring's residual flexibility joins it: ny² kernel rows)
+    // the ring's residual flexibility joins it: ny² kernel rows); 3 and 4:
+    // 1 and 2 in single precision (the interface's conjugate gradients)
+    const bool               single = state.range(0) >= 3;
+    const int                method = single ? static_cast<int>(state.range(0)) - 2 : static_cast<int>(state.range(0));
     const SurfaceConvolution convolution =
-      state.range(0) == 2
+      method == 2
         ? SurfaceConvolution(grid, RowPairInfluenceFunction([&](int di, int j, int jj) { return kernel(di, j - jj); }))
         : SurfaceConvolution(grid, kernel, true,
-                             state.range(0) == 0 ? SurfaceConvolution::Method::two_dimensional
-                                                 : SurfaceConvolution::Method::rows_along_x);
+                             method == 0 ? SurfaceConvolution::Method::two_dimensional
+                                         : SurfaceConvolution::Method::rows_along_x);
     Field pressure(grid.size()), displacement;
     for (std::size_t c = 0; c < pressure.size(); ++c)
       pressure[c] = c % 360 < 180 ? 1e6 : 0.0;
+    const std::vector<float> single_pressure(pressure.begin(), pressure.end());
+    std::vector<float>       single_displacement;
     for (auto _ : state)
       {
-        convolution.apply(pressure, displacement);
-        benchmark::DoNotOptimize(displacement.data());
+        if (single)
+          {
+            convolution.apply(single_pressure, single_displacement);
+            benchmark::DoNotOptimize(single_displacement.data());
+          }
+        else
+          {
+            convolution.apply(pressure, displacement);
+            benchmark::DoNotOptimize(displacement.data());
+          }
       }
   }
 
@@ -124,7 +137,7 @@ namespace
 BENCHMARK(BM_ConvolutionFft)->RangeMultiplier(2)->Range(32, 256)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ConvolutionDirect)->RangeMultiplier(2)->Range(32, 256)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ConvolutionRingInterface)
-  ->ArgsProduct({{0, 1, 2}, {16, 24, 32}})
+  ->ArgsProduct({{0, 1, 2, 3, 4}, {16, 24, 32}})
   ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_OperatorSetup)->RangeMultiplier(2)->Range(64, 256)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_NormalSolve)->RangeMultiplier(2)->Range(64, 256)->Unit(benchmark::kMillisecond);

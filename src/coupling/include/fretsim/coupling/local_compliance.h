@@ -92,7 +92,8 @@ namespace fretsim::coupling
     /// 1e-7 × max b of zero on the loaded cells (and no open cell
     /// penetrates by more). With a closure pressure (set_closure_pressure),
     /// Newton's method on the closure's law instead, to the same tolerance
-    /// (1e-7 × max(max |b|, δ)) on every cell, started from `pressure` moved
+    /// (1e-7 × max(max |b|, δ)) on every cell (the residual in double, the
+    /// steps by conjugate gradients in single precision), started from `pressure` moved
     /// by the pressure changes asked for since the last solve in the
     /// combination whose approach changes make up b's change (when they
     /// do, within 10 %: Newton's update in GMRES's span). Returns the
@@ -153,8 +154,8 @@ namespace fretsim::coupling
     /// The pressure's change under a change of the approach at `pressure`,
     /// the last solve's: (C + I/k_n + D)_AA Δp = Δb on the cells A carrying
     /// pressure (D the closure's compliance there), zero elsewhere; by the
-    /// solve's preconditioned conjugate gradients to `relative_tolerance`
-    /// of the largest Δb. The Jacobian's sensitivity applied to one vector,
+    /// solve's preconditioned conjugate gradients (single precision) to
+    /// `relative_tolerance` of the largest Δb. The Jacobian's sensitivity applied to one vector,
     /// at the state of the last solve rather than the last Jacobian.
     void pressure_change(const contact::Field &pressure, const contact::Field &approach_change,
                          contact::Field &change, double relative_tolerance);

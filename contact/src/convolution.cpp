@@ -132,18 +132,20 @@ namespace fretsim::contact
         }
     }
 
-    /// Any other kernel: complex spectra, complex products.
-    void sum_rows_complex_kernel(const double *kernel_rows, const KernelRows &pair, const double *load, double *out,
-                                 int ny, std::size_t values, int first_row, int end_row)
+    /// Any other kernel: complex spectra, complex products (in double or
+    /// single precision).
+    template <typename Real>
+    void sum_rows_complex_kernel(const Real *kernel_rows, const KernelRows &pair, const Real *load, Real *out, int ny,
+                                 std::size_t values, int first_row, int end_row)
     {
       const auto row = [values](auto *rows, int r) { return rows + static_cast<std::size_t>(r) * values; };
       for (int j = first_row; j < end_row; ++j)
         for (std::size_t n = 0; n < values; n += 2)
           {
-            double re = 0.0, im = 0.0;
+            Real re = 0, im = 0;
             for (int jj = 0; jj < ny; ++jj)
               {
-                const double *k = row(kernel_rows, pair(j, jj)) + n, *u = row(load, jj) + n;
+                const Real *k = row(kernel_rows, pair(j, jj)) + n, *u = row(load, jj) + n;
                 re += k[0] * u[0] - k[1] * u[1];
                 im += k[0] * u[1] + k[1] * u[0];
               }
@@ -151,6 +153,7 @@ namespace fretsim::contact
             row(out, j)[n + 1] = im;
           }
     }
+
     /// sum_rows_real_kernel in single precision: eight floats at a time,
     /// each kernel value spread over its frequency's (re, im).
     __attribute__((target_clones("avx2", "default"))) void
@@ -191,25 +194,6 @@ namespace fretsim::contact
         }
     }
 
-    /// sum_rows_complex_kernel in single precision.
-    void sum_rows_complex_kernel_single(const float *kernel_rows, const KernelRows &pair, const float *load,
-                                        float *out, int ny, std::size_t values)
-    {
-      const auto row = [values](auto *rows, int r) { return rows + static_cast<std::size_t>(r) * values; };
-      for (int j = 0; j < ny; ++j)
-        for (std::size_t n = 0; n < values; n += 2)
-          {
-            float re = 0.0f, im = 0.0f;
-            for (int jj = 0; jj < ny; ++jj)
-              {
-                const float *k = row(kernel_rows, pair(j, jj)) + n, *u = row(load, jj) + n;
-                re += k[0] * u[0] - k[1] * u[1];
-                im += k[0] * u[1] + k[1] * u[0];
-              }
-            row(out, j)[n]     = re;
-            row(out, j)[n + 1] = im;
-          }
-    }
   } // namespace
 
   namespace influence
@@ -330,12 +314,9 @@ namespace fretsim::contact
     /// convolve() in single precision, either method.
     void convolve_single(const std::vector<float> &load, std::vector<float> &result, const SingleWorkspace &w) const
     {
-      const int nx = grid.nx, ny = grid.ny;
+      const int ny   = grid.ny;
       float    *real = w.real.get();
-      std::fill(real, real + padded_size(), 0.0f);
-      for (int j = 0; j < ny; ++j)
-        for (int i = 0; i < nx; ++i)
-          real[static_cast<std::size_t>(j) * padded_nx + i] = load[grid.index(i, j)];
+      pad(load, real);
       fftwf_execute_dft_r2c(single_forward, real, w.spectrum.get());
       const auto *in = reinterpret_cast<const float *>(w.spectrum.get());
       auto       *out = reinterpret_cast<float *>(w.result_spectrum.get());
@@ -348,12 +329,28 @@ namespace fretsim::contact
       else if (real_rows)
         sum_rows_real_kernel_single(single_spectrum.data(), pair, in, out, ny, 2 * static_cast<std::size_t>(spectrum_nx));
       else
-        sum_rows_complex_kernel_single(single_spectrum.data(), pair, in, out, ny,
-                                       2 * static_cast<std::size_t>(spectrum_nx));
+        sum_rows_complex_kernel(single_spectrum.data(), pair, in, out, ny, 2 * static_cast<std::size_t>(spectrum_nx),
+                                0, ny);
       fftwf_execute_dft_c2r(single_backward, w.result_spectrum.get(), real);
+      unpad(real, result);
+    }
+
+    /// The load into a transform's padded array (zeros elsewhere), and the
+    /// result out of it.
+    template <typename Real>
+    void pad(const std::vector<Real> &load, Real *real) const
+    {
+      std::fill(real, real + padded_size(), Real(0));
+      for (int j = 0; j < grid.ny; ++j)
+        for (int i = 0; i < grid.nx; ++i)
+          real[static_cast<std::size_t>(j) * padded_nx + i] = load[grid.index(i, j)];
+    }
+    template <typename Real>
+    void unpad(const Real *real, std::vector<Real> &result) const
+    {
       result.resize(grid.size());
-      for (int j = 0; j < ny; ++j)
-        for (int i = 0; i < nx; ++i)
+      for (int j = 0; j < grid.ny; ++j)
+        for (int i = 0; i < grid.nx; ++i)
           result[grid.index(i, j)] = real[static_cast<std::size_t>(j) * padded_nx + i];
     }
 
@@ -390,20 +387,14 @@ namespace fretsim::contact
           convolve_rows(load, result, w);
           return;
         }
-      const int nx = grid.nx, ny = grid.ny;
-      double   *real = w.real.get();
-      std::fill(real, real + padded_size(), 0.0);
-      for (int j = 0; j < ny; ++j)
-        for (int i = 0; i < nx; ++i)
-          real[static_cast<std::size_t>(j) * padded_nx + i] = load[grid.index(i, j)];
+      double *real = w.real.get();
+      pad(load, real);
       fftw_execute_dft_r2c(forward, real, w.spectrum.get());
       auto *values = reinterpret_cast<std::complex<double> *>(w.spectrum.get());
       for (std::size_t n = 0; n < spectrum_size(); ++n)
         values[n] *= kernel_spectrum[n];
       fftw_execute_dft_c2r(backward, w.spectrum.get(), real);
-      for (int j = 0; j < ny; ++j)
-        for (int i = 0; i < nx; ++i)
-          result[grid.index(i, j)] = real[static_cast<std::size_t>(j) * padded_nx + i];
+      unpad(real, result);
     }
 
     /// Rows along x, part by part: forward transforms, the sums over rows
@@ -677,47 +668,54 @@ namespace fretsim::contact
 
   const SurfaceGrid &SurfaceConvolution::grid() const { return impl->grid; }
 
+  namespace
+  {
+    template <typename Value>
+    void check_arguments(const SurfaceGrid &grid, const std::vector<Value> &load, const std::vector<Value> &result)
+    {
+      if (load.size() != grid.size())
+        throw std::invalid_argument("SurfaceConvolution::apply: load size does not match the grid");
+      if (&load == &result)
+        throw std::invalid_argument("SurfaceConvolution::apply: load and result must be distinct");
+    }
+
+    /// `convolve` on the first free work arrays of `slots` (allocated on
+    /// first use), or on arrays of its own when all are busy. (FFTW's
+    /// execution on new arrays needs the planning arrays' alignment, which
+    /// fftw_alloc_* guarantees.)
+    template <typename Slots, typename Allocate, typename Convolve>
+    void in_free_slot(Slots &slots, const Allocate &allocate, const Convolve &convolve)
+    {
+      for (auto &slot : slots)
+        {
+          std::unique_lock<std::mutex> lock(slot.mutex, std::try_to_lock);
+          if (!lock.owns_lock())
+            continue;
+          if (!slot.workspace.real)
+            slot.workspace = allocate();
+          convolve(slot.workspace);
+          return;
+        }
+      convolve(allocate());
+    }
+  } // namespace
+
   void SurfaceConvolution::apply(const Field &load, Field &result) const
   {
     const Impl &d = *impl;
-    if (load.size() != d.grid.size())
-      throw std::invalid_argument("SurfaceConvolution::apply: load size does not match the grid");
-    if (&load == &result)
-      throw std::invalid_argument("SurfaceConvolution::apply: load and result must be distinct");
-
-    for (auto &slot : d.workspaces)
-      {
-        std::unique_lock<std::mutex> lock(slot.mutex, std::try_to_lock);
-        if (!lock.owns_lock())
-          continue;
-        if (!slot.workspace.real)
-          slot.workspace = d.allocate_workspace();
-        d.convolve(load, result, slot.workspace);
-        return;
-      }
-    // fftw_execute_dft_* with new arrays requires the same alignment as the
-    // planning arrays, which fftw_alloc_* guarantees.
-    d.convolve(load, result, d.allocate_workspace());
+    check_arguments(d.grid, load, result);
+    in_free_slot(
+      d.workspaces, [&] { return d.allocate_workspace(); },
+      [&](const Impl::Workspace &w) { d.convolve(load, result, w); });
   }
 
   void SurfaceConvolution::apply(const std::vector<float> &load, std::vector<float> &result) const
   {
     const Impl &d = *impl;
-    if (load.size() != d.grid.size())
-      throw std::invalid_argument("SurfaceConvolution::apply: load size does not match the grid");
-    if (&load == &result)
-      throw std::invalid_argument("SurfaceConvolution::apply: load and result must be distinct");
-    for (auto &slot : d.single_workspaces)
-      {
-        std::unique_lock<std::mutex> lock(slot.mutex, std::try_to_lock);
-        if (!lock.owns_lock())
-          continue;
-        if (!slot.workspace.real)
-          slot.workspace = d.allocate_single_workspace();
-        d.convolve_single(load, result, slot.workspace);
-        return;
-      }
-    d.convolve_single(load, result, d.allocate_single_workspace());
+    check_arguments(d.grid, load, result);
+    in_free_slot(
+      d.single_workspaces, [&] { return d.allocate_single_workspace(); },
+      [&](const Impl::SingleWorkspace &w) { d.convolve_single(load, result, w); });
   }
 
   SurfaceConvolution SurfaceConvolution::inverse(double shift) const

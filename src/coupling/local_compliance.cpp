@@ -214,13 +214,13 @@ namespace fretsim::coupling
     /// (C + I/k_n + D) x = r on the cells `on` (D the closure's, none
     /// without one), by conjugate gradients from x = 0 until the largest
     /// residual is at most `inner`; preconditioned by the FFT inverse on the
-    /// `stiff` cells and by the diagonal on the others. `r` is overwritten.
-    /// False if it did not converge. In single precision (the vectors and
+    /// `stiff` cells and by the diagonal on the others. False if it did not
+    /// converge. In single precision (the vectors and
     /// both convolutions; the sums in double): its callers ask for at most
     /// two digits of the residual (a Newton step's, or the pressure's change
     /// to 1e-2), float's rounding is 1e-7 of it, and the single convolution
     /// takes about two thirds of the double's time.
-    bool conjugate_gradients(contact::Field &r_in, contact::Field &x_out, double inner, std::size_t &convolutions)
+    bool conjugate_gradients(const contact::Field &r_in, contact::Field &x_out, double inner, std::size_t &convolutions)
     {
       // The vector operations fused into few passes over the grid per
       // iteration (they cost as much as the two convolutions when each is a

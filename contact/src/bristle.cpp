@@ -48,7 +48,7 @@ namespace fretsim::contact
       return {0.0, 0.0}; // no pressure or no friction: no traction can be transmitted
     if (update == BristleUpdate::exponential)
       {
-        const double lambda = stiffness * std::hypot(slip_x, slip_y) / mu_p;
+        const double slip = std::hypot(slip_x, slip_y), lambda = stiffness * slip / mu_p;
         BristleStep  next{0.0, 0.0};
         if (std::isfinite(lambda))
           {
@@ -56,7 +56,7 @@ namespace fretsim::contact
             next               = {decay * tau_x + along * slip_x, decay * tau_y + along * slip_y};
           }
         else // k |ds| overflowed: full slip along ds
-          next = {mu_p * slip_x / std::hypot(slip_x, slip_y), mu_p * slip_y / std::hypot(slip_x, slip_y)};
+          next = {mu_p * slip_x / slip, mu_p * slip_y / slip};
         const double magnitude = std::hypot(next.x, next.y); // a traction above a lowered limit
         if (magnitude > mu_p)
           next = {next.x * mu_p / magnitude, next.y * mu_p / magnitude};

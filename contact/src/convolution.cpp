@@ -283,11 +283,13 @@ namespace fretsim::contact
     static constexpr std::size_t    workspace_slots = 4;
     mutable std::array<WorkspaceSlot, workspace_slots> workspaces;
 
-    /// Single precision (rows only): the row spectra rounded to float
-    /// ([kernel_rows][spectrum_nx], real or interleaved (re, im)), the plans
-    /// and the work arrays, as above.
-    std::vector<float> single_spectrum;
-    fftwf_plan         single_forward = nullptr, single_backward = nullptr;
+    /// Single precision: the spectra above rounded to float (real, or
+    /// interleaved (re, im)), the plans and the work arrays, as above; set up
+    /// on the first single precision apply (setup_single), which most
+    /// convolutions never ask for.
+    mutable std::once_flag     single_ready;
+    mutable std::vector<float> single_spectrum;
+    mutable fftwf_plan         single_forward = nullptr, single_backward = nullptr;
     struct SingleWorkspace
     {
       SingleRealBuffer    real;
@@ -377,7 +379,7 @@ namespace fretsim::contact
     /// table [kernel_rows][table_nx] (pair and kernel_rows set).
     void setup(const SurfaceGrid &g, bool periodic_x, Method method, const std::function<void(std::vector<double> &)> &fill);
     /// The single precision copies of the spectra, plans and first work arrays.
-    void setup_single();
+    void setup_single() const;
 
     void convolve(const Field &load, Field &result, const Workspace &w) const
     {
@@ -627,10 +629,9 @@ namespace fretsim::contact
         fftw_execute_dft_r2c(d.forward, real, spectrum);
         transformed(0, d.spectrum_size());
       }
-    d.setup_single();
   }
 
-  void SurfaceConvolution::Impl::setup_single()
+  void SurfaceConvolution::Impl::setup_single() const
   {
     if (real_rows)
       single_spectrum.assign(real_row_spectrum.begin(), real_row_spectrum.end());
@@ -713,6 +714,7 @@ namespace fretsim::contact
   {
     const Impl &d = *impl;
     check_arguments(d.grid, load, result);
+    std::call_once(d.single_ready, [&d] { d.setup_single(); });
     in_free_slot(
       d.single_workspaces, [&] { return d.allocate_single_workspace(); },
       [&](const Impl::SingleWorkspace &w) { d.convolve_single(load, result, w); });

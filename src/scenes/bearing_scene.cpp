@@ -216,7 +216,7 @@ namespace fretsim::scenes
         Spec::selection("Interface/Bristle update", "implicit Euler",
                         "How the bristle law steps over a step's slip, within the step and in the update after it. "
                         "implicit Euler: the paper's, first order in the slip, so that D_max's time error is first "
-                        "order in the steps (one ball pass of the paper case with a flexible housing: 0.65 % below "
+                        "order in the steps (one ball pass of the paper case with a flexible housing: 0.64 % below "
                         "the converged value at the scene's settings); exponential: the law's exact answer along a "
                         "straight slip increment (there within 0.04 % in as many steps; docs/bearing.md) [-].",
                         "implicit Euler|exponential"),

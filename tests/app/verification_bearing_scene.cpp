@@ -149,7 +149,7 @@ TEST(BearingScene, TheExponentialBristleUpdateAgreesWithThePapersWhereTheStepsSl
   // (Interface/Bristle update), one pass of the small ring in the small
   // flexible housing at the default tolerances and at a tenth of them. Its
   // slip per step saturates no bristle far (on the paper's
-  // case implicit Euler leaves D_max 0.65 % low there, the exponential
+  // case implicit Euler leaves D_max 0.64 % low there, the exponential
   // 0.04 %: docs/bearing.md): the two updates must agree, and each with
   // itself across the steps, within 0.05 % (measured 0.02 %).
   const auto dir = scratch_directory("bearing_scene_bristle_update");

@@ -317,10 +317,12 @@ TEST(BearingScene, AFlexibleHousingTakesItsShareAndAStiffOneIsTheRigidHousing)
     summary_number(read_text(dir / "steel_bristles" / "summary.json"), "newton_convergence_failures");
   std::printf("the paper's bristles at the iterate: %.0f Newton failures\n", bristle_failures);
   EXPECT_LT(bristle_failures, 0.5 * paper_failures);
-  // The paper's bristles with the whole Jacobian at the iterate: measured 9
-  // failures in 428 steps (11 210 GMRES products, Newton's matrix never set
-  // up afresh for them); the risk the same to the integrator's tolerance
-  // (D_max 0.09234 against 0.09226).
+  // The paper's bristles with the whole Jacobian at the iterate: measured
+  // 7-18 failures in 419-443 steps over six relative tolerances within
+  // 0.3 % of 1e-4 (the count is a draw of the step sequence; the direct
+  // solve 61-101 over four of them), Newton's matrix never set up afresh
+  // for them; the risk the same to the integrator's tolerance (D_max
+  // 0.09237 against 0.09226). Bound: two fifths of the direct solve's.
   run("steel_krylov", "housing.prm", "--set 'Interface/Bristles follow the closure=false'");
   const std::string krylov          = read_text(dir / "steel_krylov" / "summary.json");
   const double      krylov_failures = summary_number(krylov, "newton_convergence_failures");
@@ -328,7 +330,7 @@ TEST(BearingScene, AFlexibleHousingTakesItsShareAndAStiffOneIsTheRigidHousing)
               "%.0f fresh matrices\n",
               krylov_failures, summary_number(krylov, "steps"), summary_number(krylov, "krylov_iterations"),
               summary_number(krylov, "krylov_fresh_matrices"));
-  EXPECT_LT(krylov_failures, 0.25 * paper_failures);
+  EXPECT_LT(krylov_failures, 0.4 * paper_failures);
   // GMRES ran: more products than Newton iterations (a preconditioner
   // that were the Jacobian itself would need one or none; measured 11 210
   // products in 2 916 iterations).

@@ -279,6 +279,20 @@ namespace fretsim::coupling
         }
     }
 
+    /// Σ_j a[j] b[j] over n values, in single precision.
+    __attribute__((target_clones("avx2", "default"))) float row_dot_single(const float *a, const float *b,
+                                                                          std::size_t n)
+    {
+      Float8            lanes = {};
+      const std::size_t whole = n - n % 8;
+      for (std::size_t j = 0; j < whole; j += 8)
+        lanes += *reinterpret_cast<const Float8 *>(a + j) * *reinterpret_cast<const Float8 *>(b + j);
+      float sum = lanes_sum(lanes);
+      for (std::size_t j = whole; j < n; ++j)
+        sum += a[j] * b[j];
+      return sum;
+    }
+
     /// out += Σ_k weights[k] rows[k] over `count` rows of n values, in single precision.
     __attribute__((target_clones("avx2", "default"))) void
     add_rows_single(const float *const *rows, const float *weights, int count, std::size_t n, float *out)
@@ -305,10 +319,12 @@ namespace fretsim::coupling
     double            radius;
     contact::SurfaceGrid grid;
     std::size_t       n, cells;
-    // The operator's rows in single precision: first every cell's radial
-    // row, [cell][n], which every right-hand side streams whole for the
+    // The operator's rows in single precision, on the interface columns
+    // only (interface_columns: a body's fixed-interface modes do not move
+    // the interface, a fifth of the paper's coordinates): first every cell's radial
+    // row, [cell][width], which every right-hand side streams whole for the
     // structural approach (a third of the operator, contiguous), then the
-    // tangential pairs, [cell][2][n], which only the loaded cells read. At
+    // tangential pairs, [cell][2][width], which only the loaded cells read. At
     // the paper's size (5760 cells × 3 × 160) it is 22 MB in double, and
     // streaming it from memory was what a right-hand side cost; in float it
     // is half that.
@@ -347,7 +363,23 @@ namespace fretsim::coupling
     /// Row `component` (0 radial, 1 circumferential, 2 axial) of cell c.
     const float *row(std::size_t c, int component) const
     {
-      return rows.data() + (component == 0 ? c : cells + 2 * c + component - 1) * n;
+      return rows.data() + (component == 0 ? c : cells + 2 * c + component - 1) * width;
+    }
+
+    /// x (n values) at the interface columns, the rows' coordinates.
+    template <typename Value>
+    void gather(const double *x, std::vector<Value> &out) const
+    {
+      out.resize(width);
+      for (std::size_t k = 0; k < width; ++k)
+        out[k] = static_cast<Value>(x[interface_columns[k]]);
+    }
+    /// out (n values) += part (on the interface columns).
+    template <typename Value>
+    void scatter_add(const Value *part, double *out) const
+    {
+      for (std::size_t k = 0; k < width; ++k)
+        out[interface_columns[k]] += part[k];
     }
 
     // Committed (last accepted) state. A cell's tangential position u_t, u_z
@@ -355,7 +387,9 @@ namespace fretsim::coupling
     // after the acceptance (tangential_current): most cells stay open, and
     // their two rows are not read.
     contact::Field             tau_x, tau_y, u_t, u_z, pressure;
-    std::vector<double>        accepted_q;
+    std::vector<double>        accepted_q; ///< on the interface columns
+    /// The last evaluation's q and q̇ on the interface columns.
+    std::vector<double>        interface_q, interface_v;
     std::vector<unsigned char> tangential_current;
     // Trial state of the last evaluation.
     contact::Field trial_tau_x, trial_tau_y, trial_pressure;
@@ -378,8 +412,9 @@ namespace fretsim::coupling
     double              residual_column_angle = 0.0;
     contact::Field      ball_residual;
     /// The coordinates that move the interface (not a body's fixed-interface
-    /// modes): the Jacobian's rows, sensitivity and products on these only.
+    /// modes): the rows, the Jacobian's sensitivity and products on these only.
     std::vector<Eigen::Index> interface_columns;
+    std::size_t               width = 0; ///< their number
 
     Impl(const ReducedRing &ring, const InterfaceSettings &s)
       : settings(s)
@@ -388,21 +423,33 @@ namespace fretsim::coupling
       , grid(ring.interface_grid)
       , n(ring.n)
       , cells(ring.interface_grid.size())
-      , rows(ring.interface_displacement.size())
       , by_penetration(cells)
       , slip_stiffness(cells)
       , band_share(cells)
       , consistent(s.in_step_bristle_law == InStepBristleLaw::implicit_euler)
     {
+      const auto &operator_rows = ring.interface_displacement; // [cell][component][n]
+      for (std::size_t j = 0; j < n; ++j)
+        for (std::size_t r = 0; r < 3 * cells; ++r)
+          if (static_cast<float>(operator_rows[r * n + j]) != 0.0f)
+            {
+              interface_columns.push_back(static_cast<Eigen::Index>(j));
+              break;
+            }
+      width = interface_columns.size();
+      rows.resize(3 * cells * width);
       for (std::size_t c = 0; c < cells; ++c)
         for (int component = 0; component < 3; ++component)
-          std::copy_n(ring.interface_displacement.begin() + (3 * c + component) * n, n,
-                      rows.begin() + (row(c, component) - rows.data()));
+          {
+            float *to = rows.data() + (row(c, component) - rows.data());
+            for (std::size_t k = 0; k < width; ++k)
+              to[k] = static_cast<float>(operator_rows[(3 * c + component) * n + interface_columns[k]]);
+          }
       for (auto *field : {&tau_x, &tau_y, &u_t, &u_z, &pressure, &trial_tau_x, &trial_tau_y, &trial_pressure})
         field->assign(cells, 0.0);
       loaded.assign(cells, 0);
       slipping.assign(cells, 0);
-      accepted_q.assign(n, 0.0);
+      accepted_q.assign(width, 0.0);
       tangential_current.assign(cells, 0);
       if (settings.local_compliance_modulus > 0.0 || !ring.residual_pressure.empty())
         {
@@ -435,13 +482,6 @@ namespace fretsim::coupling
       residual_ball         = ring.residual_ball;
       footprint_loads       = ring.raceway_footprint_loads;
       residual_column_angle = ring.residual_column_angle;
-      for (std::size_t j = 0; j < n; ++j)
-        for (std::size_t r = 0; r < 3 * cells; ++r)
-          if (rows[r * n + j] != 0.0f)
-            {
-              interface_columns.push_back(static_cast<Eigen::Index>(j));
-              break;
-            }
     }
 
     void set_ball_loads(const std::vector<double> &angles, const std::vector<double> &loads)
@@ -453,11 +493,12 @@ namespace fretsim::coupling
                         ball_residual);
     }
 
-    double dot(const float *values, const double *x) const { return row_dot(values, x, n); }
+    /// A row against x on the interface columns.
+    double dot(const float *values, const double *x) const { return row_dot(values, x, width); }
 
     void dot2(const float *values, const double *x, const double *y, double &x_sum, double &y_sum) const
     {
-      row_dot2(values, x, y, n, x_sum, y_sum);
+      row_dot2(values, x, y, width, x_sum, y_sum);
     }
 
     /// out += G_r,cᵀ w, the radial row of cell c alone.
@@ -465,7 +506,7 @@ namespace fretsim::coupling
     {
       const float *r = row(c, 0);
 #pragma omp simd
-      for (std::size_t j = 0; j < n; ++j)
+      for (std::size_t j = 0; j < width; ++j)
         out[j] += weight * r[j];
     }
 
@@ -474,7 +515,7 @@ namespace fretsim::coupling
     {
       const float *r = row(c, 0), *t = row(c, 1), *z = row(c, 2);
 #pragma omp simd
-      for (std::size_t j = 0; j < n; ++j)
+      for (std::size_t j = 0; j < width; ++j)
         out[j] += weights[0] * r[j] + weights[1] * t[j] + weights[2] * z[j];
     }
 
@@ -518,7 +559,8 @@ namespace fretsim::coupling
     {
       const bool jacobian = out.by_position != nullptr;
       set_structural_approach(q_data, v_data);
-      Eigen::Map<VectorXd>(out.force, n) += cell_forces(q_data, jacobian || keep_derivatives);
+      const VectorXd force = cell_forces(jacobian || keep_derivatives);
+      scatter_add(force.data(), out.force);
       if (jacobian)
         add_jacobian(out);
     }
@@ -527,11 +569,13 @@ namespace fretsim::coupling
     /// half-space, the layer's pressure on its give.
     void set_structural_approach(const double *q_data, const double *v_data)
     {
+      gather(q_data, interface_q);
+      gather(v_data, interface_v);
 #pragma omp parallel for schedule(static)
       for (std::size_t c = 0; c < cells; ++c)
         {
           double u_r = 0.0, u_r_rate = 0.0;
-          dot2(row(c, 0), q_data, v_data, u_r, u_r_rate);
+          dot2(row(c, 0), interface_q.data(), interface_v.data(), u_r, u_r_rate);
           structural[c]      = settings.radial_interference + u_r;
           structural_rate[c] = u_r_rate;
         }
@@ -545,14 +589,15 @@ namespace fretsim::coupling
         }
     }
 
-    /// The cells' generalised force at q; sets the trial pressure and
-    /// tractions, and with `jacobian` the loaded cells' derivatives.
-    VectorXd cell_forces(const double *q_data, bool jacobian)
+    /// The cells' generalised force at the structural approach's q (on the
+    /// interface columns); sets the trial pressure and tractions, and with
+    /// `jacobian` the loaded cells' derivatives.
+    VectorXd cell_forces(bool jacobian)
     {
-      VectorXd force = VectorXd::Zero(n);
+      VectorXd force = VectorXd::Zero(static_cast<Eigen::Index>(width));
 #pragma omp parallel
       {
-        VectorXd local_force = VectorXd::Zero(n);
+        VectorXd local_force = VectorXd::Zero(static_cast<Eigen::Index>(width));
 #pragma omp for schedule(static)
         for (std::size_t c = 0; c < cells; ++c)
           {
@@ -586,7 +631,7 @@ namespace fretsim::coupling
                 u_z[c]                = dot(row(c, 2), accepted_q.data());
                 tangential_current[c] = 1;
               }
-            const double   ut = dot(row(c, 1), q_data), uz = dot(row(c, 2), q_data);
+            const double   ut = dot(row(c, 1), interface_q.data()), uz = dot(row(c, 2), interface_q.data());
             const BristleStep step = bristle_traction(c, p, -(ut - u_t[c]), -(uz - u_z[c]), jacobian || track_slip);
             if (track_slip && p > 0.0)
               slip_now[c] = step.by_slip;
@@ -701,25 +746,38 @@ namespace fretsim::coupling
     /// solved rather than factorised.
     void add_derivative(const double *dq, const double *dv, double *out)
     {
-      const double damping_time = settings.normal_damping_time;
-      const std::vector<float> position(dq, dq + n), velocity(dv, dv + n);
+      const double       damping_time = settings.normal_damping_time;
+      std::vector<float> position, velocity;
+      gather(dq, position);
+      gather(dv, velocity);
       approach_change.assign(cells, 0.0);
+      if (local)
+        { // with the half-space the approach's change is u_r's along dq + τ_d dv: one product per row
+          std::vector<float> combined(width);
+          for (std::size_t k = 0; k < width; ++k)
+            combined[k] = static_cast<float>(dq[interface_columns[k]] + damping_time * dv[interface_columns[k]]);
 #pragma omp parallel for schedule(static)
-      for (std::size_t c = 0; c < cells; ++c)
-        if (loaded[c])
-          {
-            float by_position = 0.0f, by_velocity = 0.0f;
-            two_dots_single(row(c, 0), position.data(), row(c, 0), velocity.data(), n, by_position, by_velocity);
-            approach_change[c] = local ? by_position + damping_time * by_velocity
-                                       : by_position + damping_time * (1.0 - band_share[c]) * by_velocity;
-          }
+          for (std::size_t c = 0; c < cells; ++c)
+            if (loaded[c])
+              approach_change[c] = row_dot_single(row(c, 0), combined.data(), width);
+        }
+      else
+#pragma omp parallel for schedule(static)
+        for (std::size_t c = 0; c < cells; ++c)
+          if (loaded[c])
+            {
+              float by_position = 0.0f, by_velocity = 0.0f;
+              two_dots_single(row(c, 0), position.data(), row(c, 0), velocity.data(), width, by_position,
+                              by_velocity);
+              approach_change[c] = by_position + damping_time * (1.0 - band_share[c]) * by_velocity;
+            }
       if (local)
         local->pressure_change(local_pressure, approach_change, pressure_change, derivative_tolerance);
       const contact::Field &normal = local ? pressure_change : approach_change;
-      std::vector<float>    sum(n, 0.0f);
+      std::vector<float>    sum(width, 0.0f);
 #pragma omp parallel
       {
-        std::vector<float> part(n, 0.0f);
+        std::vector<float> part(width, 0.0f);
 #pragma omp for schedule(static)
         for (std::size_t c = 0; c < cells; ++c)
           {
@@ -730,26 +788,26 @@ namespace fretsim::coupling
             if (slip_stiffness[c].isZero(0.0) && by_penetration[c].tail<2>().isZero(0.0))
               { // no shear (the closure's tail): the radial row alone
                 const float weight = static_cast<float>(cell_area * traction[0]);
-                add_rows_single(cell_rows, &weight, 1, n, part.data());
+                add_rows_single(cell_rows, &weight, 1, width, part.data());
                 continue;
               }
             if (!slip_stiffness[c].isZero(0.0))
               {
                 float along_t = 0.0f, along_z = 0.0f;
-                two_dots_single(cell_rows[1], position.data(), cell_rows[2], position.data(), n, along_t, along_z);
+                two_dots_single(cell_rows[1], position.data(), cell_rows[2], position.data(), width, along_t,
+                                along_z);
                 traction.tail<2>() -= slip_stiffness[c] * Eigen::Vector2d(along_t, along_z);
               }
             const float weights[3] = {static_cast<float>(cell_area * traction[0]),
                                       static_cast<float>(cell_area * traction[1]),
                                       static_cast<float>(cell_area * traction[2])};
-            add_rows_single(cell_rows, weights, 3, n, part.data());
+            add_rows_single(cell_rows, weights, 3, width, part.data());
           }
 #pragma omp critical
-        for (std::size_t j = 0; j < n; ++j)
+        for (std::size_t j = 0; j < width; ++j)
           sum[j] += part[j];
       }
-      for (std::size_t j = 0; j < n; ++j)
-        out[j] += sum[j];
+      scatter_add(sum.data(), out);
     }
     /// add_derivative's pressure change to this fraction of the largest
     /// approach change (1e-3 took a third more convolutions for as many
@@ -785,7 +843,7 @@ namespace fretsim::coupling
             {
               const float *values = row(c, component);
               for (Eigen::Index k = 0; k < size; ++k)
-                g(component, k) = values[interface_columns[k]];
+                g(component, k) = values[k];
             }
           rows_of.radial.row(a) = g.row(0);
           rows_of.normal.row(a) = by_penetration[c].transpose() * g;
@@ -930,7 +988,7 @@ namespace fretsim::coupling
                           std::hypot(impl->tau_x[c], impl->tau_y[c]) >=
                             slip_threshold * impl->settings.friction_coefficient * impl->pressure[c];
     // The tangential positions from now on at this q (taken when needed).
-    impl->accepted_q.assign(q, q + impl->n);
+    impl->gather(q, impl->accepted_q);
     std::fill(impl->tangential_current.begin(), impl->tangential_current.end(), 0);
   }
 
@@ -977,7 +1035,10 @@ namespace fretsim::coupling
       {
         const std::size_t c = changed[k].second;
         for (int component = 1; component <= 2; ++component)
-          rows.insert(rows.end(), d.row(c, component), d.row(c, component) + d.n);
+          {
+            rows.resize(rows.size() + d.n, 0.0);
+            d.scatter_add(d.row(c, component), rows.data() + rows.size() - d.n);
+          }
         const Eigen::Matrix2d area_change = d.cell_area * (d.slip_now[c] - d.slip_at_jacobian[c]);
         changes.insert(changes.end(), {area_change(0, 0), area_change(0, 1), area_change(1, 0), area_change(1, 1)});
       }

@@ -158,7 +158,7 @@ namespace fretsim::contact
     /// each kernel value spread over its frequency's (re, im).
     __attribute__((target_clones("avx2", "default"))) void
     sum_rows_real_kernel_single(const float *kernel_rows, const KernelRows &pair, const float *load, float *out,
-                                int ny, std::size_t values)
+                                int ny, std::size_t values, int first_row, int end_row)
     {
       using Oct          = float __attribute__((vector_size(32)));
       using UnalignedOct = float __attribute__((vector_size(32), aligned(4)));
@@ -168,7 +168,7 @@ namespace fretsim::contact
       const auto kernel_row = [&](int j, int jj) {
         return kernel_rows + static_cast<std::size_t>(pair(j, jj)) * frequencies;
       };
-      for (int j = 0; j < ny; ++j)
+      for (int j = first_row; j < end_row; ++j)
         {
           float *row_out = out + static_cast<std::size_t>(j) * values;
           for (std::size_t first = 0; first < whole; first += block)
@@ -290,6 +290,10 @@ namespace fretsim::contact
     mutable std::once_flag     single_ready;
     mutable std::vector<float> single_spectrum;
     mutable fftwf_plan         single_forward = nullptr, single_backward = nullptr;
+    /// Rows along x: the two parts' plans as in double (split_row), here
+    /// also for apply_shared's two threads; the same plans on one thread.
+    mutable std::array<fftwf_plan, 2> single_part_forward{}, single_part_backward{};
+    mutable bool                      single_split = false;
     struct SingleWorkspace
     {
       SingleRealBuffer    real;
@@ -301,6 +305,8 @@ namespace fretsim::contact
       SingleWorkspace workspace;
     };
     mutable std::array<SingleSlot, workspace_slots> single_workspaces;
+    /// apply_shared's work arrays (both threads on one set).
+    mutable SingleWorkspace shared_workspace;
 
     SingleWorkspace allocate_single_workspace() const
     {
@@ -316,8 +322,16 @@ namespace fretsim::contact
     /// convolve() in single precision, either method.
     void convolve_single(const std::vector<float> &load, std::vector<float> &result, const SingleWorkspace &w) const
     {
-      const int ny   = grid.ny;
-      float    *real = w.real.get();
+      if (single_split)
+        {
+          result.resize(grid.size());
+          for (int part = 0; part < 2; ++part)
+            forward_single_part(load, w, part);
+          for (int part = 0; part < 2; ++part)
+            backward_single_part(result, w, part);
+          return;
+        }
+      float *real = w.real.get();
       pad(load, real);
       fftwf_execute_dft_r2c(single_forward, real, w.spectrum.get());
       const auto *in = reinterpret_cast<const float *>(w.spectrum.get());
@@ -328,13 +342,53 @@ namespace fretsim::contact
             out[n]     = single_spectrum[n] * in[n] - single_spectrum[n + 1] * in[n + 1];
             out[n + 1] = single_spectrum[n] * in[n + 1] + single_spectrum[n + 1] * in[n];
           }
-      else if (real_rows)
-        sum_rows_real_kernel_single(single_spectrum.data(), pair, in, out, ny, 2 * static_cast<std::size_t>(spectrum_nx));
       else
-        sum_rows_complex_kernel(single_spectrum.data(), pair, in, out, ny, 2 * static_cast<std::size_t>(spectrum_nx),
-                                0, ny);
+        sum_rows_single(w, 0, grid.ny);
       fftwf_execute_dft_c2r(single_backward, w.result_spectrum.get(), real);
       unpad(real, result);
+    }
+
+    /// Rows along x in single precision, rows [first, end) of a part.
+    std::pair<int, int> single_part_rows(int part) const
+    {
+      return part == 0 ? std::pair<int, int>{0, split_row} : std::pair<int, int>{split_row, grid.ny};
+    }
+    /// A part's rows of the load transformed.
+    void forward_single_part(const std::vector<float> &load, const SingleWorkspace &w, int part) const
+    {
+      const auto [first, end] = single_part_rows(part);
+      float *real = w.real.get();
+      for (int j = first; j < end; ++j)
+        {
+          float *row = real + static_cast<std::size_t>(j) * padded_nx;
+          std::fill(row + grid.nx, row + padded_nx, 0.0f);
+          std::copy_n(load.begin() + static_cast<std::ptrdiff_t>(grid.index(0, j)), grid.nx, row);
+        }
+      fftwf_execute_dft_r2c(single_part_forward[part], real + static_cast<std::size_t>(first) * padded_nx,
+                            w.spectrum.get() + static_cast<std::size_t>(first) * spectrum_nx);
+    }
+    /// A part's rows of the result: their sums over every row's transform, back.
+    void backward_single_part(std::vector<float> &result, const SingleWorkspace &w, int part) const
+    {
+      const auto [first, end] = single_part_rows(part);
+      float *real = w.real.get();
+      sum_rows_single(w, first, end);
+      fftwf_execute_dft_c2r(single_part_backward[part], w.result_spectrum.get() + static_cast<std::size_t>(first) * spectrum_nx,
+                            real + static_cast<std::size_t>(first) * padded_nx);
+      for (int j = first; j < end; ++j)
+        std::copy_n(real + static_cast<std::size_t>(j) * padded_nx, grid.nx,
+                    result.begin() + static_cast<std::ptrdiff_t>(grid.index(0, j)));
+    }
+    /// sum_rows in single precision.
+    void sum_rows_single(const SingleWorkspace &w, int first_row, int end_row) const
+    {
+      const auto *in = reinterpret_cast<const float *>(w.spectrum.get());
+      auto       *out = reinterpret_cast<float *>(w.result_spectrum.get());
+      const auto  values = 2 * static_cast<std::size_t>(spectrum_nx);
+      if (real_rows)
+        sum_rows_real_kernel_single(single_spectrum.data(), pair, in, out, grid.ny, values, first_row, end_row);
+      else
+        sum_rows_complex_kernel(single_spectrum.data(), pair, in, out, grid.ny, values, first_row, end_row);
     }
 
     /// The load into a transform's padded array (zeros elsewhere), and the
@@ -471,7 +525,8 @@ namespace fretsim::contact
       for (fftw_plan plan : {forward, backward, part_forward[0], part_forward[1], part_backward[0], part_backward[1]})
         if (plan)
           fftw_destroy_plan(plan);
-      for (fftwf_plan plan : {single_forward, single_backward})
+      for (fftwf_plan plan : {single_forward, single_backward, single_part_forward[0], single_part_forward[1],
+                              single_part_backward[0], single_part_backward[1]})
         if (plan)
           fftwf_destroy_plan(plan);
     }
@@ -650,6 +705,34 @@ namespace fretsim::contact
                                                   planning.spectrum.get(), nullptr, 1, spectrum_nx, FFTW_ESTIMATE);
         single_backward = fftwf_plan_many_dft_c2r(1, &padded_nx, grid.ny, planning.result_spectrum.get(), nullptr, 1,
                                                   spectrum_nx, planning.real.get(), nullptr, 1, padded_nx, FFTW_ESTIMATE);
+        // The double's parts, if the second part's rows are aligned as
+        // FFTW planned the first's in float too.
+        const auto aligned = [](float *pointer, float *planned) {
+          return fftwf_alignment_of(pointer) == fftwf_alignment_of(planned);
+        };
+        const auto complex_row = [&](fftwf_complex *rows, int r) {
+          return reinterpret_cast<float *>(rows + static_cast<std::size_t>(r) * spectrum_nx);
+        };
+        float *real = planning.real.get();
+        if (split_row > 0 && aligned(real + static_cast<std::size_t>(split_row) * padded_nx, real) &&
+            aligned(complex_row(planning.spectrum.get(), split_row), complex_row(planning.spectrum.get(), 0)) &&
+            aligned(complex_row(planning.result_spectrum.get(), split_row),
+                    complex_row(planning.result_spectrum.get(), 0)))
+          {
+            for (int part = 0; part < 2; ++part)
+              {
+                const int count = part == 0 ? split_row : grid.ny - split_row;
+                single_part_forward[part] =
+                  fftwf_plan_many_dft_r2c(1, &padded_nx, count, real, nullptr, 1, padded_nx, planning.spectrum.get(),
+                                          nullptr, 1, spectrum_nx, FFTW_ESTIMATE);
+                single_part_backward[part] =
+                  fftwf_plan_many_dft_c2r(1, &padded_nx, count, planning.result_spectrum.get(), nullptr, 1,
+                                          spectrum_nx, real, nullptr, 1, padded_nx, FFTW_ESTIMATE);
+                if (!single_part_forward[part] || !single_part_backward[part])
+                  throw std::runtime_error("SurfaceConvolution: FFTW could not create the single precision plans");
+              }
+            single_split = true;
+          }
       }
     else
       {
@@ -661,6 +744,7 @@ namespace fretsim::contact
     if (!single_forward || !single_backward)
       throw std::runtime_error("SurfaceConvolution: FFTW could not create the single precision plans");
     single_workspaces[0].workspace = std::move(planning);
+    shared_workspace               = allocate_single_workspace();
   }
 
   SurfaceConvolution::~SurfaceConvolution()                                  = default;
@@ -718,6 +802,34 @@ namespace fretsim::contact
     in_free_slot(
       d.single_workspaces, [&] { return d.allocate_single_workspace(); },
       [&](const Impl::SingleWorkspace &w) { d.convolve_single(load, result, w); });
+  }
+
+  void SurfaceConvolution::apply_shared(const std::vector<float> &load, std::vector<float> &result, int part,
+                                        const std::function<void()> &wait) const
+  {
+    const Impl &d = *impl;
+    check_arguments(d.grid, load, result);
+    if (result.size() != d.grid.size() || (part != 0 && part != 1))
+      throw std::invalid_argument("SurfaceConvolution::apply_shared: result not sized to the grid, or part not 0 or 1");
+    std::call_once(d.single_ready, [&d] { d.setup_single(); });
+    if (!d.single_split)
+      { // one part: the first thread applies it whole
+        wait();
+        if (part == 0)
+          d.convolve_single(load, result, d.shared_workspace);
+        wait();
+        return;
+      }
+    d.forward_single_part(load, d.shared_workspace, part);
+    wait(); // every row's transform, before the sums over rows
+    d.backward_single_part(result, d.shared_workspace, part);
+  }
+
+  int SurfaceConvolution::shared_split_row() const
+  {
+    const Impl &d = *impl;
+    std::call_once(d.single_ready, [&d] { d.setup_single(); });
+    return d.single_split ? d.split_row : 0;
   }
 
   SurfaceConvolution SurfaceConvolution::inverse(double shift) const

@@ -2,9 +2,12 @@
 
 #include <fretsim/contact/convolution.h>
 
+#include "thread_team.h"
+
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -227,81 +230,123 @@ namespace fretsim::coupling
     {
       // The vector operations fused into few passes over the grid per
       // iteration (they cost as much as the two convolutions when each is a
-      // pass of its own); every sum in the order of the cells.
+      // pass of its own). On two threads (ThreadTeam) each takes the cells of
+      // its convolution rows' part, and every sum is the parts' sums in the
+      // order of the cells, added in the parts' order.
       constexpr int     max_cg = 500;
       const std::size_t cells  = grid.size();
       const bool        closed = !closure_diagonal.empty();
       for (auto *vector : {&single_x, &single_r, &single_z, &single_search, &single_image, &single_masked})
         vector->assign(cells, 0.0f);
+      x_out.resize(cells);
       std::vector<float> &x = single_x, &r = single_r, &z = single_z, &search = single_search, &image = single_image,
                          &masked = single_masked;
       const auto diagonal = [&](std::size_t c) {
         return static_cast<float>(self + layer_compliance + closure_at(c));
       };
-      // z = M⁻¹ r from `masked` (r on the stiff cells), and r·z.
-      const auto precondition = [&]() {
-        if (preconditioner)
-          {
-            ++convolutions;
-            preconditioner->apply(masked, z);
-          }
-        else
-          z = masked;
-        double product = 0.0;
-        for (std::size_t c = 0; c < cells; ++c)
-          {
-            if (!stiff[c])
-              z[c] = on[c] ? r[c] / diagonal(c) : 0.0f;
-            product += on[c] ? static_cast<double>(r[c]) * z[c] : 0.0;
-          }
-        return product;
-      };
-      double largest = 0.0;
-      for (std::size_t c = 0; c < cells; ++c)
-        {
-          r[c]      = static_cast<float>(r_in[c]);
-          masked[c] = stiff[c] ? r[c] : 0.0f;
-          largest   = std::max(largest, std::abs(r_in[c]));
-        }
-      const auto finish = [&](bool converged) {
-        x_out.resize(cells);
-        std::copy(x.begin(), x.end(), x_out.begin());
-        return converged;
-      };
-      double product = precondition();
-      search         = z; // zero off the loaded cells, as r
       const auto layer = static_cast<float>(layer_compliance);
-      for (int it = 0; it < max_cg; ++it)
-        {
-          if (largest <= inner)
-            return finish(true);
-          ++convolutions;
-          compliance.apply(search, image);
-          double curvature = 0.0;
-          for (std::size_t c = 0; c < cells; ++c)
+      // Part 0's cells: the rows before the convolutions' split (each part
+      // then reads only the rows it wrote); the preconditioner's own split
+      // on the same grid is the same, else its part waits around it.
+      const int  split_row = compliance.shared_split_row();
+      const bool same_split = !preconditioner || preconditioner->shared_split_row() == split_row;
+      const std::size_t split = static_cast<std::size_t>(split_row > 0 ? split_row : grid.ny / 2) * grid.nx;
+      // The parts' sums, two sets used in turn: a part may write the next
+      // while the other still reads the last.
+      std::array<std::array<std::array<double, 2>, 2>, 2> sums{};
+      bool converged = false;
+      ThreadTeam::shared().run([&](const TeamPart &team) {
+        const std::size_t begin = team.parts == 1 || team.part == 0 ? 0 : split,
+                          end   = team.parts == 1 || team.part == 1 ? cells : split;
+        int               turn  = 0;
+        // (Σ first, max second) over the parts.
+        const auto combine = [&](double first, double second) {
+          sums[turn][team.part] = {first, second};
+          team.wait();
+          std::array<double, 2> total = sums[turn][0];
+          for (int part = 1; part < team.parts; ++part)
+            total = {total[0] + sums[turn][part][0], std::max(total[1], sums[turn][part][1])};
+          turn ^= 1;
+          return total;
+        };
+        const auto convolve = [&](const contact::SurfaceConvolution &op, const std::vector<float> &in,
+                                  std::vector<float> &out, bool aligned) {
+          if (team.parts == 1)
+            return op.apply(in, out);
+          if (!aligned)
+            team.wait();
+          op.apply_shared(in, out, team.part, [&] { team.wait(); });
+          if (!aligned)
+            team.wait();
+        };
+        // z = M⁻¹ r from `masked` (r on the stiff cells), and this part's r·z.
+        const auto precondition = [&]() {
+          if (preconditioner)
             {
-              image[c] += (closed ? layer + static_cast<float>(closure_diagonal[c]) : layer) * search[c];
-              curvature += on[c] ? static_cast<double>(search[c]) * image[c] : 0.0;
+              if (team.part == 0)
+                ++convolutions;
+              convolve(*preconditioner, masked, z, same_split);
             }
-          const auto length = static_cast<float>(product / curvature);
-          largest            = 0.0;
-          for (std::size_t c = 0; c < cells; ++c)
+          else
+            std::copy(masked.begin() + begin, masked.begin() + end, z.begin() + begin);
+          double product = 0.0;
+          for (std::size_t c = begin; c < end; ++c)
             {
-              if (on[c])
-                {
-                  x[c] += length * search[c];
-                  r[c] -= length * image[c];
-                }
-              masked[c] = stiff[c] ? r[c] : 0.0f;
-              largest   = std::max(largest, static_cast<double>(std::abs(r[c])));
+              if (!stiff[c])
+                z[c] = on[c] ? r[c] / diagonal(c) : 0.0f;
+              product += on[c] ? static_cast<double>(r[c]) * z[c] : 0.0;
             }
-          const double next  = precondition();
-          const auto   ratio = static_cast<float>(next / product);
-          for (std::size_t c = 0; c < cells; ++c)
-            search[c] = on[c] ? z[c] + ratio * search[c] : 0.0f;
-          product = next;
-        }
-      return finish(false);
+          return product;
+        };
+        double largest = 0.0;
+        for (std::size_t c = begin; c < end; ++c)
+          {
+            r[c]      = static_cast<float>(r_in[c]);
+            masked[c] = stiff[c] ? r[c] : 0.0f;
+            largest   = std::max(largest, std::abs(r_in[c]));
+          }
+        auto [product, largest_r] = combine(precondition(), largest);
+        largest = largest_r;
+        std::copy(z.begin() + begin, z.begin() + end, search.begin() + begin); // zero off the loaded cells, as r
+        for (int it = 0; it < max_cg; ++it)
+          {
+            if (largest <= inner)
+              {
+                if (team.part == 0)
+                  converged = true;
+                break;
+              }
+            if (team.part == 0)
+              ++convolutions;
+            convolve(compliance, search, image, true);
+            double curvature = 0.0;
+            for (std::size_t c = begin; c < end; ++c)
+              {
+                image[c] += (closed ? layer + static_cast<float>(closure_diagonal[c]) : layer) * search[c];
+                curvature += on[c] ? static_cast<double>(search[c]) * image[c] : 0.0;
+              }
+            const auto length = static_cast<float>(product / combine(curvature, 0.0)[0]);
+            largest           = 0.0;
+            for (std::size_t c = begin; c < end; ++c)
+              {
+                if (on[c])
+                  {
+                    x[c] += length * search[c];
+                    r[c] -= length * image[c];
+                  }
+                masked[c] = stiff[c] ? r[c] : 0.0f;
+                largest   = std::max(largest, static_cast<double>(std::abs(r[c])));
+              }
+            const auto [next, largest_next] = combine(precondition(), largest);
+            largest                         = largest_next;
+            const auto ratio                = static_cast<float>(next / product);
+            for (std::size_t c = begin; c < end; ++c)
+              search[c] = on[c] ? z[c] + ratio * search[c] : 0.0f;
+            product = next;
+          }
+        std::copy(x.begin() + begin, x.begin() + end, x_out.begin() + begin);
+      });
+      return converged;
     }
 
     /// LocalCompliance::pressure_change.

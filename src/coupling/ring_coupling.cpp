@@ -1,5 +1,7 @@
 #include <fretsim/coupling/ring_coupling.h>
 
+#include "thread_team.h"
+
 #include <fretsim/coupling/bearing.h>
 #include <fretsim/coupling/local_compliance.h>
 
@@ -8,6 +10,7 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -366,6 +369,12 @@ namespace fretsim::coupling
       return rows.data() + (component == 0 ? c : cells + 2 * c + component - 1) * width;
     }
 
+    /// A team part's cells.
+    std::pair<std::size_t, std::size_t> cells_of(const TeamPart &team) const
+    {
+      return {cells * team.part / team.parts, cells * (team.part + 1) / team.parts};
+    }
+
     /// x (n values) at the interface columns, the rows' coordinates.
     template <typename Value>
     void gather(const double *x, std::vector<Value> &out) const
@@ -571,14 +580,16 @@ namespace fretsim::coupling
     {
       gather(q_data, interface_q);
       gather(v_data, interface_v);
-#pragma omp parallel for schedule(static)
-      for (std::size_t c = 0; c < cells; ++c)
-        {
-          double u_r = 0.0, u_r_rate = 0.0;
-          dot2(row(c, 0), interface_q.data(), interface_v.data(), u_r, u_r_rate);
-          structural[c]      = settings.radial_interference + u_r;
-          structural_rate[c] = u_r_rate;
-        }
+      ThreadTeam::shared().run([&](const TeamPart &team) {
+        const auto [begin, end] = cells_of(team);
+        for (std::size_t c = begin; c < end; ++c)
+          {
+            double u_r = 0.0, u_r_rate = 0.0;
+            dot2(row(c, 0), interface_q.data(), interface_v.data(), u_r, u_r_rate);
+            structural[c]      = settings.radial_interference + u_r;
+            structural_rate[c] = u_r_rate;
+          }
+      });
       if (local)
         { // the layer on the half-space's give; its damping through the
           // structural approach rate (w's rate is not in it)
@@ -594,12 +605,11 @@ namespace fretsim::coupling
     /// `jacobian` the loaded cells' derivatives.
     VectorXd cell_forces(bool jacobian)
     {
-      VectorXd force = VectorXd::Zero(static_cast<Eigen::Index>(width));
-#pragma omp parallel
-      {
-        VectorXd local_force = VectorXd::Zero(static_cast<Eigen::Index>(width));
-#pragma omp for schedule(static)
-        for (std::size_t c = 0; c < cells; ++c)
+      std::array<VectorXd, 2> part_forces; // summed in the parts' order
+      ThreadTeam::shared().run([&](const TeamPart &team) {
+        VectorXd &local_force = part_forces[team.part] = VectorXd::Zero(static_cast<Eigen::Index>(width));
+        const auto [begin, end] = cells_of(team);
+        for (std::size_t c = begin; c < end; ++c)
           {
             loaded[c] = 0;
             if (track_slip)
@@ -650,9 +660,10 @@ namespace fretsim::coupling
             slip_stiffness[c] = step.by_slip;
             loaded[c]         = 1;
           }
-#pragma omp critical
-        force += local_force;
-      }
+      });
+      VectorXd force = part_forces[0];
+      if (part_forces[1].size() > 0)
+        force += part_forces[1];
       if (track_slip && jacobian)
         slip_at_jacobian = slip_now;
       return force;
@@ -756,30 +767,34 @@ namespace fretsim::coupling
           std::vector<float> combined(width);
           for (std::size_t k = 0; k < width; ++k)
             combined[k] = static_cast<float>(dq[interface_columns[k]] + damping_time * dv[interface_columns[k]]);
-#pragma omp parallel for schedule(static)
-          for (std::size_t c = 0; c < cells; ++c)
-            if (loaded[c])
-              approach_change[c] = row_dot_single(row(c, 0), combined.data(), width);
+          ThreadTeam::shared().run([&](const TeamPart &team) {
+            const auto [begin, end] = cells_of(team);
+            for (std::size_t c = begin; c < end; ++c)
+              if (loaded[c])
+                approach_change[c] = row_dot_single(row(c, 0), combined.data(), width);
+          });
         }
       else
-#pragma omp parallel for schedule(static)
-        for (std::size_t c = 0; c < cells; ++c)
-          if (loaded[c])
-            {
-              float by_position = 0.0f, by_velocity = 0.0f;
-              two_dots_single(row(c, 0), position.data(), row(c, 0), velocity.data(), width, by_position,
-                              by_velocity);
-              approach_change[c] = by_position + damping_time * (1.0 - band_share[c]) * by_velocity;
-            }
+        ThreadTeam::shared().run([&](const TeamPart &team) {
+          const auto [begin, end] = cells_of(team);
+          for (std::size_t c = begin; c < end; ++c)
+            if (loaded[c])
+              {
+                float by_position = 0.0f, by_velocity = 0.0f;
+                two_dots_single(row(c, 0), position.data(), row(c, 0), velocity.data(), width, by_position,
+                                by_velocity);
+                approach_change[c] = by_position + damping_time * (1.0 - band_share[c]) * by_velocity;
+              }
+        });
       if (local)
         local->pressure_change(local_pressure, approach_change, pressure_change, derivative_tolerance);
       const contact::Field &normal = local ? pressure_change : approach_change;
-      std::vector<float>    sum(width, 0.0f);
-#pragma omp parallel
-      {
-        std::vector<float> part(width, 0.0f);
-#pragma omp for schedule(static)
-        for (std::size_t c = 0; c < cells; ++c)
+      std::array<std::vector<float>, 2> parts; // summed in the parts' order
+      ThreadTeam::shared().run([&](const TeamPart &team) {
+        std::vector<float> &part = parts[team.part];
+        part.assign(width, 0.0f);
+        const auto [begin, end] = cells_of(team);
+        for (std::size_t c = begin; c < end; ++c)
           {
             if (!loaded[c])
               continue;
@@ -803,11 +818,11 @@ namespace fretsim::coupling
                                       static_cast<float>(cell_area * traction[2])};
             add_rows_single(cell_rows, weights, 3, width, part.data());
           }
-#pragma omp critical
+      });
+      if (!parts[1].empty())
         for (std::size_t j = 0; j < width; ++j)
-          sum[j] += part[j];
-      }
-      scatter_add(sum.data(), out);
+          parts[0][j] += parts[1][j];
+      scatter_add(parts[0].data(), out);
     }
     /// add_derivative's pressure change to this fraction of the largest
     /// approach change (1e-3 took a third more convolutions for as many

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -467,5 +468,77 @@ TEST(SurfaceConvolution, InSinglePrecisionItMatchesTheDoublesToAFewMillionths)
                   worst / max_abs(reference));
       EXPECT_LE(worst, 1e-6 * max_abs(reference)) << grid.nx << " x " << grid.ny;
       EXPECT_GT(worst, 0.0); // (it did run in float)
+    }
+}
+
+TEST(SurfaceConvolution, SharedByTwoThreadsItGivesTheSameNumbersAsApply)
+{
+  // apply_shared on two threads against apply on one, bitwise: the ring's
+  // rows (split between the threads), a row-pair kernel with complex
+  // spectra on an odd row count, and the 2-D transform (applied whole by
+  // part 0). Three shared applies in a row with a wait between each, as
+  // the conjugate gradients call them; each thread writes its part's rows of
+  // the load and reads its part's rows of the result only.
+  const auto ring   = SurfaceGrid::centred(360, 16, 2.0 * M_PI * 0.04, 0.018);
+  const auto odd    = SurfaceGrid::centred(24, 7, 1.0, 1.0);
+  const auto square = SurfaceGrid::centred(48, 40, 1e-3, 0.8e-3);
+  std::vector<SurfaceConvolution> operators;
+  operators.emplace_back(ring, love_around(ring), true, SurfaceConvolution::Method::rows_along_x);
+  operators.emplace_back(odd, RowPairInfluenceFunction([](int di, int j, int jj) {
+                           di = ((di % 24) + 24) % 24;
+                           return std::exp(-0.2 * std::abs(di + 1)) * (1.0 + j - 0.5 * jj) + 0.01 * di;
+                         }));
+  operators.emplace_back(square, InfluenceFunction([&](int di, int dj) {
+                           return influence::normal_displacement(di * square.hx, dj * square.hy, square.hx, square.hy,
+                                                                 1.1e11);
+                         }));
+  EXPECT_EQ(operators[0].shared_split_row(), 8);
+  EXPECT_EQ(operators[2].shared_split_row(), 0);
+  for (const auto &convolution : operators)
+    {
+      const auto       &grid = convolution.grid();
+      const std::size_t split =
+        static_cast<std::size_t>(convolution.shared_split_row() > 0 ? convolution.shared_split_row() : grid.ny / 2) *
+        grid.nx;
+      std::vector<std::vector<float>> loads, expected;
+      for (unsigned seed = 0; seed < 3; ++seed)
+        {
+          const Field load = random_field(grid, 11 + seed);
+          loads.emplace_back(load.begin(), load.end());
+          expected.emplace_back();
+          convolution.apply(loads.back(), expected.back());
+        }
+      std::vector<float> load(grid.size()), result(grid.size());
+      std::vector<std::vector<float>> results(3);
+      std::atomic<int>                arrived{0}, generation{0};
+      const auto                      wait = [&] {
+        const int now = generation.load();
+        if (arrived.fetch_add(1) == 1)
+          {
+            arrived.store(0);
+            generation.fetch_add(1);
+            return;
+          }
+        while (generation.load() == now)
+          std::this_thread::yield();
+      };
+      const auto part = [&](int part) {
+        const std::size_t begin = part == 0 ? 0 : split, end = part == 0 ? split : grid.size();
+        for (int round = 0; round < 3; ++round)
+          {
+            std::copy(loads[round].begin() + begin, loads[round].begin() + end, load.begin() + begin);
+            convolution.apply_shared(load, result, part, wait);
+            if (part == 0)
+              results[round].assign(grid.size(), 0.0f);
+            wait();
+            std::copy(result.begin() + begin, result.begin() + end, results[round].begin() + begin);
+            wait();
+          }
+      };
+      std::thread other(part, 1);
+      part(0);
+      other.join();
+      for (int round = 0; round < 3; ++round)
+        EXPECT_EQ(results[round], expected[round]) << grid.nx << " x " << grid.ny << ", round " << round;
     }
 }

@@ -52,6 +52,19 @@ namespace fretsim::contact
     /// |result|, for iterative solves that need the product to a few digits
     /// only.
     void apply(const std::vector<float> &load, std::vector<float> &result) const;
+    /// The single precision apply shared by two threads: each calls it at
+    /// once with the same arrays, its `part` (0, 1) and `wait`, a barrier
+    /// across both. Thread `part` must have written the load's rows of its
+    /// part (rows [0, shared_split_row()) are part 0's, the others part
+    /// 1's), and on return it may read the result's rows of its part; the
+    /// other rows only after a wait. Between two shared applies of one
+    /// convolution the threads wait at least once. The numbers are
+    /// apply()'s. result sized to the grid.
+    void apply_shared(const std::vector<float> &load, std::vector<float> &result, int part,
+                      const std::function<void()> &wait) const;
+    /// apply_shared's first row of part 1, 0 if part 0 applies it whole
+    /// (then every row is the caller's after the call).
+    int shared_split_row() const;
     /// The inverse of K + shift I on the whole grid, closed in x (periodic,
     /// rows along x): per x-frequency the ny × ny block of K's spectrum plus
     /// shift, inverted, as a convolution of its own (a row-pair kernel). The

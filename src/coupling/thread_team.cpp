@@ -61,7 +61,10 @@ namespace fretsim::coupling
   void ThreadTeam::run_erased(Call task, void *task_callable)
   {
     std::unique_lock<std::mutex> lock(busy, std::defer_lock);
-    if (!worker.joinable() || in_task || !lock.try_lock())
+    // Alone also where the caller's OpenMP allows one thread (`fretsim
+    // map` gives each point one core, and its result must not depend on
+    // whether the team was free) or runs within an OpenMP region.
+    if (!worker.joinable() || in_task || omp_get_max_threads() < 2 || omp_in_parallel() || !lock.try_lock())
       {
         task(task_callable, TeamPart{0, 1, this});
         return;

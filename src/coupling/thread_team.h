@@ -27,7 +27,9 @@ namespace fretsim::coupling
   /// policy: about 0.1 ms to wake one on a 2-core virtual machine, more than
   /// the loop). The worker spins for the next task for spin_seconds, then
   /// sleeps. One task at a time: a task run while another runs (another
-  /// thread's, or from within a task) runs on its caller alone.
+  /// thread's, or from within a task) runs on its caller alone, as does one
+  /// whose caller's OpenMP may use one thread only or runs in an OpenMP
+  /// parallel region.
   class ThreadTeam
   {
   public:

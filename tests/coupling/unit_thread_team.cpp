@@ -5,6 +5,7 @@
 #include "../../src/coupling/thread_team.h"
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <atomic>
 #include <array>
@@ -17,6 +18,7 @@ using fretsim::coupling::ThreadTeam;
 
 TEST(ThreadTeam, EveryPartRunsOnceAndTheBarrierOrdersThem)
 {
+  omp_set_num_threads(2); // the team follows the caller's OpenMP threads
   ThreadTeam team(2);
   ASSERT_EQ(team.size(), 2);
   for (int round = 0; round < 2000; ++round)
@@ -54,16 +56,25 @@ TEST(ThreadTeam, ATeamOfOneAndATaskWithinATaskRunOnTheirCaller)
   });
   EXPECT_EQ(parts, 1);
 
+  omp_set_num_threads(2);
   ThreadTeam         team(2);
   std::array<int, 2> inner{0, 0};
   team.run([&](const TeamPart &part) {
     team.run([&](const TeamPart &nested) { inner[part.part] = nested.parts; });
   });
   EXPECT_EQ(inner, (std::array<int, 2>{1, 1}));
+  // `fretsim map`'s threads allow their OpenMP one thread: their loops run alone.
+  omp_set_num_threads(1);
+  team.run([&](const TeamPart &part) { parts = part.parts; });
+  EXPECT_EQ(parts, 1);
+  omp_set_num_threads(2);
+  team.run([&](const TeamPart &part) { inner[part.part] = part.parts; });
+  EXPECT_EQ(inner, (std::array<int, 2>{2, 2}));
 }
 
 TEST(ThreadTeam, AnExceptionOfEitherPartReachesTheCaller)
 {
+  omp_set_num_threads(2);
   ThreadTeam team(2);
   for (int thrower = 0; thrower < 2; ++thrower)
     EXPECT_THROW(team.run([&](const TeamPart &part) {
@@ -85,6 +96,7 @@ TEST(ThreadTeam, TwoCallersAtOnceBothGetTheirSums)
   ThreadTeam        team(2);
   std::atomic<long> wrong{0};
   const auto        caller = [&](int offset) {
+    omp_set_num_threads(2);
     for (int round = 0; round < 3000; ++round)
       {
         std::vector<long> done(100, 0);

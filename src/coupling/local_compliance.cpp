@@ -168,31 +168,41 @@ namespace fretsim::coupling
       for (int newton = 0; newton < max_newton; ++newton)
         {
           apply(p, gap, convolutions);
-          double worst  = 0.0;
-          bool   joined = false;
-          for (std::size_t c = 0; c < cells; ++c)
-            {
-              residual[c]         = 0.0;
-              closure_diagonal[c] = 0.0;
-              if (!(p[c] > 0.0))
-                { // a cell at zero rejoins once its compression reaches the tail
-                  const double free = b[c] - offset - gap[c];
-                  if (free > -closure_cut * decay)
-                    {
-                      p[c]   = closure_pressure * std::exp(std::min(free / decay, 0.0));
-                      joined = true;
-                    }
-                }
-              on[c] = p[c] > 0.0;
-              if (on[c])
-                {
-                  const double engaged = -std::expm1(-p[c] / closure_pressure); // 1 − e^(−p/p_c)
-                  residual[c]          = gap[c] - b[c] + offset + decay * std::log(engaged);
-                  closure_diagonal[c]  = layer_compliance * (1.0 - engaged) / engaged; // δ/p_c/(e^(p/p_c) − 1)
-                  worst                = std::max(worst, std::abs(residual[c]));
-                }
-              stiff[c] = on[c] && closure_diagonal[c] <= self;
-            }
+          // The residual cell by cell, on two threads (its logarithms cost
+          // as much as a convolution).
+          std::array<double, 2>        part_worst{};
+          std::array<unsigned char, 2> part_joined{};
+          ThreadTeam::shared().run([&](const TeamPart &team) {
+            double worst = 0.0;
+            bool   joined = false;
+            for (std::size_t c = cells * team.part / team.parts; c < cells * (team.part + 1) / team.parts; ++c)
+              {
+                residual[c]         = 0.0;
+                closure_diagonal[c] = 0.0;
+                if (!(p[c] > 0.0))
+                  { // a cell at zero rejoins once its compression reaches the tail
+                    const double free = b[c] - offset - gap[c];
+                    if (free > -closure_cut * decay)
+                      {
+                        p[c]   = closure_pressure * std::exp(std::min(free / decay, 0.0));
+                        joined = true;
+                      }
+                  }
+                on[c] = p[c] > 0.0;
+                if (on[c])
+                  {
+                    const double engaged = -std::expm1(-p[c] / closure_pressure); // 1 − e^(−p/p_c)
+                    residual[c]          = gap[c] - b[c] + offset + decay * std::log(engaged);
+                    closure_diagonal[c]  = layer_compliance * (1.0 - engaged) / engaged; // δ/p_c/(e^(p/p_c) − 1)
+                    worst                = std::max(worst, std::abs(residual[c]));
+                  }
+                stiff[c] = on[c] && closure_diagonal[c] <= self;
+              }
+            part_worst[team.part]  = worst;
+            part_joined[team.part] = joined;
+          });
+          const double worst  = std::max(part_worst[0], part_worst[1]);
+          const bool   joined = part_joined[0] || part_joined[1];
           if (worst <= tolerance)
             {
               if (joined)

@@ -12,14 +12,25 @@
 //   BM_InterfaceDerivative/1  the same with a residual flexibility (Love's
 //                         half-space as its table) and the layer's closure:
 //                         the pressure's coupling solved too.
+//   BM_LoopDispatch/0  0.2 ms of one thread's work, the others' reference;
+//   BM_LoopDispatch/1  the same, then an empty OpenMP region of two threads
+//                      (under OMP_WAIT_POLICY=passive its start wakes a
+//                      sleeping thread);
+//   BM_LoopDispatch/2  the same through coupling::ThreadTeam, whose worker
+//                      spins for the next task: what the interface's loops
+//                      pay to start on two threads.
 // Counter: loaded cells. Compare variants within one run (noisy machines).
 #include <fretsim/coupling/ring_coupling.h>
+
+#include "../src/coupling/thread_team.h"
 
 #include <fretsim/contact/convolution.h>
 
 #include <benchmark/benchmark.h>
+#include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -155,6 +166,29 @@ namespace
     state.counters["loaded_cells"] = contact.contact_fraction() * s.ring.interface_grid.size();
   }
   BENCHMARK(BM_InterfaceDerivative)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+  void BM_LoopDispatch(benchmark::State &state)
+  {
+    const auto work = [] {
+      double sum = 0.0;
+      for (int i = 0; i < 50000; ++i)
+        benchmark::DoNotOptimize(sum += 1e-9 * i);
+    };
+    std::atomic<int> parts{0};
+    for (auto _ : state)
+      {
+        work();
+        if (state.range(0) == 1)
+          {
+#pragma omp parallel num_threads(2)
+            parts.fetch_add(1);
+          }
+        else if (state.range(0) == 2)
+          coupling::ThreadTeam::shared().run([&](const coupling::TeamPart &) { parts.fetch_add(1); });
+      }
+    benchmark::DoNotOptimize(parts.load());
+  }
+  BENCHMARK(BM_LoopDispatch)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
 } // namespace
 
 BENCHMARK_MAIN();

@@ -3,7 +3,10 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
+#include <cstdlib>
+#include <string>
 
 namespace fretsim::coupling
 {
@@ -36,9 +39,16 @@ namespace fretsim::coupling
       team->barrier();
   }
 
+  int ThreadTeam::threads_for(const char *wait_policy, int openmp_threads)
+  {
+    std::string policy = wait_policy ? wait_policy : "";
+    std::transform(policy.begin(), policy.end(), policy.begin(), [](unsigned char c) { return std::tolower(c); });
+    return policy == "active" ? 1 : std::clamp(openmp_threads, 1, 2);
+  }
+
   ThreadTeam &ThreadTeam::shared()
   {
-    static ThreadTeam team(std::min(omp_get_max_threads(), 2));
+    static ThreadTeam team(threads_for(std::getenv("OMP_WAIT_POLICY"), omp_get_max_threads()));
     return team;
   }
 

@@ -33,9 +33,13 @@ namespace fretsim::coupling
   class ThreadTeam
   {
   public:
-    /// The process's team: two threads where OpenMP may use two (its
-    /// OMP_NUM_THREADS), else the caller alone.
+    /// The process's team: threads_for(OMP_WAIT_POLICY, OpenMP's threads).
     static ThreadTeam &shared();
+    /// Two threads where OpenMP may use two (its OMP_NUM_THREADS), else
+    /// one; one also under OMP_WAIT_POLICY=active, whose threads never
+    /// leave their cores: the worker would wait for one at every task (a
+    /// flexible-housing pass took 30 times as long).
+    static int threads_for(const char *wait_policy, int openmp_threads);
     explicit ThreadTeam(int threads);
     ~ThreadTeam();
     ThreadTeam(const ThreadTeam &)            = delete;

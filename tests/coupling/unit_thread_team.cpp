@@ -114,3 +114,13 @@ TEST(ThreadTeam, TwoCallersAtOnceBothGetTheirSums)
   second.join();
   EXPECT_EQ(wrong.load(), 0);
 }
+
+TEST(ThreadTeam, ItsSizeFollowsOpenMPsThreadsAndWaitPolicy)
+{
+  EXPECT_EQ(ThreadTeam::threads_for(nullptr, 2), 2);
+  EXPECT_EQ(ThreadTeam::threads_for("PASSIVE", 8), 2);
+  EXPECT_EQ(ThreadTeam::threads_for(nullptr, 1), 1);
+  // OpenMP's threads spinning for ever would keep the worker off the cores.
+  EXPECT_EQ(ThreadTeam::threads_for("ACTIVE", 2), 1);
+  EXPECT_EQ(ThreadTeam::threads_for("active", 4), 1);
+}

@@ -48,7 +48,10 @@ namespace fretsim::coupling
 
   ThreadTeam &ThreadTeam::shared()
   {
-    static ThreadTeam team(threads_for(std::getenv("OMP_WAIT_POLICY"), omp_get_max_threads()));
+    // (omp_get_num_procs: the cores the process may run on, one under an
+    // MPI launcher's binding to a core.)
+    static ThreadTeam team(
+      threads_for(std::getenv("OMP_WAIT_POLICY"), std::min(omp_get_max_threads(), omp_get_num_procs())));
     return team;
   }
 

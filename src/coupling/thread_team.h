@@ -33,7 +33,8 @@ namespace fretsim::coupling
   class ThreadTeam
   {
   public:
-    /// The process's team: threads_for(OMP_WAIT_POLICY, OpenMP's threads).
+    /// The process's team: threads_for(OMP_WAIT_POLICY, OpenMP's threads,
+    /// at most the cores the process may run on).
     static ThreadTeam &shared();
     /// Two threads where OpenMP may use two (its OMP_NUM_THREADS), else
     /// one; one also under OMP_WAIT_POLICY=active, whose threads never

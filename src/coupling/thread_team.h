@@ -24,7 +24,7 @@ namespace fretsim::coupling
   /// The caller and one worker thread sharing the interface's loops: a few
   /// tens of microseconds of work each, thousands per step, too short for an
   /// OpenMP region when its threads sleep between regions (a passive wait
-  /// policy: about 0.1 ms to wake one on a 2-core virtual machine, more than
+  /// policy: 0.05-0.1 ms to wake one on a 2-core virtual machine, more than
   /// the loop). The worker spins for the next task for spin_seconds, then
   /// sleeps. One task at a time: a task run while another runs (another
   /// thread's, or from within a task) runs on its caller alone, as does one

@@ -56,7 +56,7 @@ namespace fretsim::coupling
     double                      uniform = 0.0; ///< the largest displacement under p = 1 everywhere [m/Pa]
     contact::Field              response, gap, direction, masked, preconditioned; // work arrays of solve()
     // and of solve_with_closure, sized once: it runs at every right-hand side
-    contact::Field              residual, step, image;
+    contact::Field              residual, step;
     /// conjugate_gradients' vectors, in single precision.
     std::vector<float>          single_x, single_r, single_z, single_search, single_image, single_masked;
     std::vector<unsigned char>  on, stiff;
@@ -118,7 +118,7 @@ namespace fretsim::coupling
           row_self.push_back(diagonal(j));
           self = std::max(self, row_self.back());
         }
-      for (auto *field : {&response, &gap, &direction, &masked, &preconditioned, &residual, &step, &image})
+      for (auto *field : {&response, &gap, &direction, &masked, &preconditioned, &residual, &step})
         field->assign(g.size(), 0.0);
       on.assign(g.size(), 0);
       stiff.assign(g.size(), 0);
@@ -175,7 +175,8 @@ namespace fretsim::coupling
           ThreadTeam::shared().run([&](const TeamPart &team) {
             double worst = 0.0;
             bool   joined = false;
-            for (std::size_t c = cells * team.part / team.parts; c < cells * (team.part + 1) / team.parts; ++c)
+            const auto [begin, end] = team.share(cells);
+            for (std::size_t c = begin; c < end; ++c)
               {
                 residual[c]         = 0.0;
                 closure_diagonal[c] = 0.0;
@@ -412,11 +413,12 @@ namespace fretsim::coupling
     /// exact for a cell that carries its closure alone (a step linear in p
     /// crawls there, a decade per step down, and a fifth fewer convolutions
     /// per solve on the paper's scene this way). At most a tenth down and
-    /// e² up (−2.30… = ln 0.1); above p_c linear.
+    /// e² up; above p_c linear.
     double closure_update(double p, double change) const
     {
+      constexpr double ln_tenth = -2.302585092994046;
       if (p < closure_pressure)
-        return p * std::exp(std::clamp(change / p, -2.302585092994046, 2.0));
+        return p * std::exp(std::clamp(change / p, ln_tenth, 2.0));
       return std::max(p + change, 0.1 * p);
     }
 

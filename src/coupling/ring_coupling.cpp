@@ -369,12 +369,6 @@ namespace fretsim::coupling
       return rows.data() + (component == 0 ? c : cells + 2 * c + component - 1) * width;
     }
 
-    /// A team part's cells.
-    std::pair<std::size_t, std::size_t> cells_of(const TeamPart &team) const
-    {
-      return {cells * team.part / team.parts, cells * (team.part + 1) / team.parts};
-    }
-
     /// x (n values) at the interface columns, the rows' coordinates.
     template <typename Value>
     void gather(const double *x, std::vector<Value> &out) const
@@ -581,7 +575,7 @@ namespace fretsim::coupling
       gather(q_data, interface_q);
       gather(v_data, interface_v);
       ThreadTeam::shared().run([&](const TeamPart &team) {
-        const auto [begin, end] = cells_of(team);
+        const auto [begin, end] = team.share(cells);
         for (std::size_t c = begin; c < end; ++c)
           {
             double u_r = 0.0, u_r_rate = 0.0;
@@ -608,7 +602,7 @@ namespace fretsim::coupling
       std::array<VectorXd, 2> part_forces; // summed in the parts' order
       ThreadTeam::shared().run([&](const TeamPart &team) {
         VectorXd &local_force = part_forces[team.part] = VectorXd::Zero(static_cast<Eigen::Index>(width));
-        const auto [begin, end] = cells_of(team);
+        const auto [begin, end] = team.share(cells);
         for (std::size_t c = begin; c < end; ++c)
           {
             loaded[c] = 0;
@@ -760,7 +754,6 @@ namespace fretsim::coupling
       const double       damping_time = settings.normal_damping_time;
       std::vector<float> position, velocity;
       gather(dq, position);
-      gather(dv, velocity);
       approach_change.assign(cells, 0.0);
       if (local)
         { // with the half-space the approach's change is u_r's along dq + τ_d dv: one product per row
@@ -768,24 +761,27 @@ namespace fretsim::coupling
           for (std::size_t k = 0; k < width; ++k)
             combined[k] = static_cast<float>(dq[interface_columns[k]] + damping_time * dv[interface_columns[k]]);
           ThreadTeam::shared().run([&](const TeamPart &team) {
-            const auto [begin, end] = cells_of(team);
+            const auto [begin, end] = team.share(cells);
             for (std::size_t c = begin; c < end; ++c)
               if (loaded[c])
                 approach_change[c] = row_dot_single(row(c, 0), combined.data(), width);
           });
         }
       else
-        ThreadTeam::shared().run([&](const TeamPart &team) {
-          const auto [begin, end] = cells_of(team);
-          for (std::size_t c = begin; c < end; ++c)
-            if (loaded[c])
-              {
-                float by_position = 0.0f, by_velocity = 0.0f;
-                two_dots_single(row(c, 0), position.data(), row(c, 0), velocity.data(), width, by_position,
-                                by_velocity);
-                approach_change[c] = by_position + damping_time * (1.0 - band_share[c]) * by_velocity;
-              }
-        });
+        {
+          gather(dv, velocity);
+          ThreadTeam::shared().run([&](const TeamPart &team) {
+            const auto [begin, end] = team.share(cells);
+            for (std::size_t c = begin; c < end; ++c)
+              if (loaded[c])
+                {
+                  float by_position = 0.0f, by_velocity = 0.0f;
+                  two_dots_single(row(c, 0), position.data(), row(c, 0), velocity.data(), width, by_position,
+                                  by_velocity);
+                  approach_change[c] = by_position + damping_time * (1.0 - band_share[c]) * by_velocity;
+                }
+          });
+        }
       if (local)
         local->pressure_change(local_pressure, approach_change, pressure_change, derivative_tolerance);
       const contact::Field &normal = local ? pressure_change : approach_change;
@@ -793,7 +789,7 @@ namespace fretsim::coupling
       ThreadTeam::shared().run([&](const TeamPart &team) {
         std::vector<float> &part = parts[team.part];
         part.assign(width, 0.0f);
-        const auto [begin, end] = cells_of(team);
+        const auto [begin, end] = team.share(cells);
         for (std::size_t c = begin; c < end; ++c)
           {
             if (!loaded[c])

@@ -1,10 +1,12 @@
 #pragma once
 #include <atomic>
 #include <condition_variable>
+#include <cstddef>
 #include <exception>
 #include <mutex>
 #include <thread>
 #include <type_traits>
+#include <utility>
 
 namespace fretsim::coupling
 {
@@ -19,6 +21,11 @@ namespace fretsim::coupling
     ThreadTeam *team  = nullptr;
     /// Returns when every part has called it (nothing with one part).
     void wait() const;
+    /// This part's share [begin, end) of `count` items, the parts in order.
+    std::pair<std::size_t, std::size_t> share(std::size_t count) const
+    {
+      return {count * part / parts, count * (part + 1) / parts};
+    }
   };
 
   /// The caller and one worker thread sharing the interface's loops: a few

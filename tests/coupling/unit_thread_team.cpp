@@ -101,8 +101,8 @@ TEST(ThreadTeam, TwoCallersAtOnceBothGetTheirSums)
       {
         std::vector<long> done(100, 0);
         team.run([&](const TeamPart &part) {
-          for (std::size_t k = done.size() * part.part / part.parts;
-               k < done.size() * (part.part + 1) / part.parts; ++k)
+          const auto [begin, end] = part.share(done.size());
+          for (std::size_t k = begin; k < end; ++k)
             done[k] += offset + static_cast<long>(k);
         });
         for (std::size_t k = 0; k < done.size(); ++k)
